@@ -1,0 +1,27 @@
+# sphforge_add_plugin(NAME SOURCES src.cpp... [LIBRARIES lib...])
+# Builds the shared library sphforge_NAME.so that the loader finds by the plugin's name.
+# A plugin needs only the public headers (core/include/sphforge) and libsphforge_core.
+function(sphforge_add_plugin name)
+  cmake_parse_arguments(P "" "OUTPUT_DIRECTORY" "SOURCES;LIBRARIES" ${ARGN})
+  if(NOT P_SOURCES)
+    message(FATAL_ERROR "sphforge_add_plugin(${name}): SOURCES is required")
+  endif()
+  if(NOT P_OUTPUT_DIRECTORY)
+    set(P_OUTPUT_DIRECTORY "${SPHFORGE_PLUGIN_BUILD_DIR}")
+  endif()
+  set(target sphforge_plugin_${name})
+  add_library(${target} MODULE ${P_SOURCES})
+  target_link_libraries(${target} PRIVATE sphforge::core ${P_LIBRARIES})
+  if(TARGET OpenMP::OpenMP_CXX)
+    target_link_libraries(${target} PRIVATE OpenMP::OpenMP_CXX)
+  endif()
+  set_target_properties(${target} PROPERTIES
+    PREFIX ""
+    OUTPUT_NAME "sphforge_${name}"
+    LIBRARY_OUTPUT_DIRECTORY "${P_OUTPUT_DIRECTORY}"
+    CXX_VISIBILITY_PRESET hidden
+    VISIBILITY_INLINES_HIDDEN ON
+    INSTALL_RPATH "$ORIGIN/../..")
+  install(TARGETS ${target} LIBRARY DESTINATION "${SPHFORGE_PLUGIN_INSTALL_DIR}")
+  set_property(GLOBAL APPEND PROPERTY SPHFORGE_PLUGIN_TARGETS ${target})
+endfunction()

@@ -1,0 +1,207 @@
+// The sphforge command: run, check, plugins. Exit codes (DESIGN.md "Outputs"):
+// 0 done, 1 other failure, 2 invalid input, 3 numerical instability.
+#include <omp.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "engine/simulation.hpp"
+#include "sphforge/errors.hpp"
+#include "sphforge/version.hpp"
+
+namespace fs = std::filesystem;
+using namespace sphforge;
+
+namespace {
+
+constexpr int kExitOk = 0, kExitOther = 1, kExitInput = 2, kExitUnstable = 3;
+constexpr const char* kDefaultCase = "cases/ram_extrusion/paste_orifice_quick.json";
+
+void usage(std::ostream& out) {
+  out << "sphforge " << kCoreVersion << " - SPH workbench for thermo-mechanical forming processes\n\n"
+      << "usage:\n"
+      << "  sphforge run [CASE] [--out DIR] [--set key.path=value]... [--quiet] [--force]\n"
+      << "      run a case (default: the bundled " << kDefaultCase << ")\n"
+      << "  sphforge check CASE [--set key.path=value]...\n"
+      << "      validate a case, build its scene and list passes and fields, without running\n"
+      << "  sphforge plugins [--json]\n"
+      << "      list every plugin with its parameters (unit, default, range, doc)\n\n"
+      << "exit codes: 0 done, 1 other error, 2 invalid input, 3 numerical instability\n";
+}
+
+/// The bundled default case: next to the source tree (build tree) or the install prefix.
+fs::path default_case() {
+  for (const fs::path& root : {fs::path(SPHFORGE_SOURCE_DIR), fs::path(SPHFORGE_INSTALL_DATA_DIR)}) {
+    const fs::path candidate = root / kDefaultCase;
+    if (fs::exists(candidate)) return candidate;
+  }
+  throw InputError(kDefaultCase, "", "the bundled default case was not found; give a case file");
+}
+
+struct Options {
+  std::string command;
+  std::string case_path;
+  std::string out;
+  std::vector<std::string> overrides;
+  bool quiet = false, force = false, json = false;
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
+  if (argc < 2) throw InputError("", "", "no command given (run, check, plugins); see sphforge --help");
+  o.command = argv[1];
+  for (int k = 2; k < argc; ++k) {
+    const std::string a = argv[k];
+    auto value = [&](const char* name) -> std::string {
+      if (k + 1 >= argc) throw InputError("", "", std::string(name) + " needs a value");
+      return argv[++k];
+    };
+    if (a == "--out") o.out = value("--out");
+    else if (a == "--set") o.overrides.push_back(value("--set"));
+    else if (a.rfind("--set=", 0) == 0) o.overrides.push_back(a.substr(6));
+    else if (a == "--quiet" || a == "-q") o.quiet = true;
+    else if (a == "--force") o.force = true;
+    else if (a == "--json") o.json = true;
+    else if (!a.empty() && a[0] == '-') throw InputError("", "", "unknown option '" + a + "'; see sphforge --help");
+    else if (o.case_path.empty()) o.case_path = a;
+    else throw InputError("", "", "unexpected argument '" + a + "'");
+  }
+  return o;
+}
+
+/// Chooses the output folder. An explicit --out that exists and is not empty is refused without
+/// --force (and even then nothing is deleted: files are only overwritten). The default folder
+/// runs/<case> gets a numeric suffix instead of touching an earlier run.
+fs::path output_folder(const Options& o, const std::string& case_name) {
+  auto occupied = [](const fs::path& p) {
+    std::error_code ec;
+    return fs::exists(p, ec) && !(fs::is_directory(p, ec) && fs::is_empty(p, ec));
+  };
+  if (!o.out.empty()) {
+    const fs::path out(o.out);
+    std::error_code ec;
+    if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+      throw InputError(o.out, "", "--out names a file, not a folder");
+    if (occupied(out) && !o.force)
+      throw InputError(o.out, "", "output folder exists and is not empty; choose another --out or add --force "
+                                  "to overwrite the files sphforge writes there (nothing is deleted)");
+    return out;
+  }
+  fs::path base = fs::path("runs") / case_name;
+  if (!occupied(base) || o.force) return base;
+  for (int k = 2;; ++k) {
+    fs::path candidate = base.string() + "-" + std::to_string(k);
+    if (!occupied(candidate)) return candidate;
+  }
+}
+
+int list_plugins(bool as_json) {
+  PluginLoader loader;
+  std::vector<std::string> problems;
+  auto plugins = loader.discover(&problems);
+  if (as_json) {
+    json out = json::array();
+    for (const LoadedPlugin* p : plugins) {
+      json params = json::array();
+      for (const auto& spec : p->descriptor->parameters) params.push_back(spec.describe());
+      out.push_back({{"kind", to_string(p->descriptor->kind)}, {"name", p->descriptor->name},
+                     {"version", p->descriptor->version}, {"doc", p->descriptor->doc},
+                     {"library", p->path.string()}, {"parameters", params}});
+    }
+    std::cout << out.dump(2) << "\n";
+  } else {
+    for (PluginKind kind : {PluginKind::Process, PluginKind::Material, PluginKind::Contact, PluginKind::Controller}) {
+      for (const LoadedPlugin* p : plugins) {
+        if (p->descriptor->kind != kind) continue;
+        std::cout << to_string(kind) << " " << p->descriptor->name << " " << p->descriptor->version << " - "
+                  << p->descriptor->doc << "\n";
+        for (const auto& spec : p->descriptor->parameters) {
+          const json d = spec.describe();
+          std::cout << "    " << spec.name;
+          if (d.contains("unit") && d["unit"] != "1") std::cout << " [" << d["unit"].get<std::string>() << "]";
+          if (d.contains("default")) std::cout << " = " << d["default"].dump();
+          else std::cout << " (required)";
+          if (d.contains("min") || d.contains("max"))
+            std::cout << " range " << (d.contains("min") ? d["min"].dump() : "-inf") << " .. "
+                      << (d.contains("max") ? d["max"].dump() : "inf");
+          if (d.contains("choices")) std::cout << " one of " << d["choices"].dump();
+          std::cout << " - " << spec.doc << "\n";
+        }
+      }
+    }
+  }
+  for (const auto& p : problems) std::cerr << "warning: " << p << "\n";
+  return kExitOk;
+}
+
+int check_case(const Options& o) {
+  if (o.case_path.empty()) throw InputError("", "", "check needs a case file");
+  PluginLoader loader;
+  const CaseDocument doc = load_case(o.case_path, o.overrides);
+  Simulation sim(doc, loader);
+  std::cout << "case '" << sim.settings().case_name << "' is valid: " << sim.particle_count() << " particles, "
+            << sim.tools().size() << " tools\npasses:\n";
+  for (const auto& pass : sim.passes()) std::cout << "  " << pass.name << "\n";
+  std::cout << "fields allocated:";
+  for (const auto& name : sim.fields().names()) std::cout << " " << name;
+  std::cout << "\n";
+  return kExitOk;
+}
+
+int run_case(const Options& o) {
+  PluginLoader loader;
+  const std::string path = o.case_path.empty() ? default_case().string() : o.case_path;
+  const CaseDocument doc = load_case(path, o.overrides);
+  // Everything the user supplied is validated (and the scene built) before a file is written.
+  Simulation sim(doc, loader);
+  const fs::path out = output_folder(o, sim.settings().case_name);
+  const ProgressMode mode = o.quiet ? ProgressMode::Quiet : ProgressMode::Auto;
+  if (!o.quiet)
+    std::cerr << "sphforge: running '" << sim.settings().case_name << "' (" << sim.particle_count()
+              << " particles, " << omp_get_max_threads() << " threads) -> " << out.string() << "\n";
+  const Simulation::RunResult result = sim.run(out, mode);
+  if (result.exit_code != 0) {
+    std::cerr << "error: " << result.message << "\n"
+              << "the last state is in " << (out / "particles.pvd").string() << "\n";
+    return result.exit_code;
+  }
+  if (!o.quiet)
+    std::cout << "output: " << fs::absolute(out).string() << "\n"
+              << "open in ParaView: paraview " << (out / "particles.pvd").string() << " "
+              << (out / "tools.pvd").string() << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc >= 2 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help"))) {
+      usage(std::cout);
+      return kExitOk;
+    }
+    if (argc >= 2 && !std::strcmp(argv[1], "--version")) {
+      std::cout << "sphforge " << kCoreVersion << " (plugin ABI " << kPluginAbiVersion << ")\n";
+      return kExitOk;
+    }
+    // `sphforge` alone and `sphforge run` run the default case.
+    Options o = argc < 2 ? Options{"run"} : parse(argc, argv);
+    if (o.command == "run") return run_case(o);
+    if (o.command == "check") return check_case(o);
+    if (o.command == "plugins") return list_plugins(o.json);
+    throw InputError("", "", "unknown command '" + o.command + "' (expected run, check or plugins)");
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitInput;
+  } catch (const InstabilityError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitUnstable;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitOther;
+  }
+}

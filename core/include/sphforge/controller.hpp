@@ -1,0 +1,28 @@
+// Controller plugin interface: reads measured signals, writes commanded quantities, at its own
+// sampling interval. Never touches particle arrays.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sphforge/signals.hpp"
+
+namespace sphforge {
+
+struct HistoryColumn {
+  std::string name;            ///< ends in its unit, e.g. "ram_force_N"
+  const double* value = nullptr;
+};
+
+class Controller {
+ public:
+  virtual ~Controller() = default;
+  /// Looks up the signals named in its parameters; throws InputError for unknown names.
+  virtual void bind(SignalBus& bus) = 0;
+  /// Called every step with the current time; the controller decides when it samples.
+  virtual void update(double time_s, double dt_s) = 0;
+  /// Extra history columns (e.g. error, P/I/D parts).
+  virtual std::vector<HistoryColumn> history_columns() const { return {}; }
+};
+
+}  // namespace sphforge

@@ -1,0 +1,566 @@
+#include "engine/simulation.hpp"
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <limits>
+
+#include "backend.hpp"
+#include "io/output_writers.hpp"
+#include "sphforge/errors.hpp"
+#include "sphforge/version.hpp"
+
+namespace sphforge {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const ParamSpecs& top_level_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::object("case", "name and description of the case", true),
+      ParamSpec::object("process", "the process plugin and its parameters", true),
+      ParamSpec::object("material", "the material plugin of the workpiece and its parameters", true),
+      ParamSpec::object("contact", "penalty contact settings and the friction law plugin", true),
+      ParamSpec::array("controllers", "controller plugins driving the process's commands"),
+      ParamSpec::object("numerics", "SPH discretisation settings"),
+      ParamSpec::object("run", "duration and output intervals", true),
+  };
+  return specs;
+}
+
+const ParamSpecs& case_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::string("name", std::nullopt, "case name, used for the default output folder"),
+      ParamSpec::string("description", std::string(), "free text"),
+  };
+  return specs;
+}
+
+const ParamSpecs& numerics_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::string("kernel", std::string("cubic_spline"), "smoothing kernel (support 2h)",
+                        {"cubic_spline", "wendland_c2"}),
+      ParamSpec::number("h_over_dx", "1", 1.3, "smoothing length over particle spacing", 0.8, 3.0),
+      ParamSpec::number("cfl", "1", 0.3, "Courant number of the time step dt = cfl h / (c + |v|max)", 1e-3, 2.0),
+      ParamSpec::object("artificial_viscosity", "Monaghan artificial viscosity coefficients"),
+      ParamSpec::number("neighbour_skin", "1", 0.2,
+                        "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
+  };
+  return specs;
+}
+
+const ParamSpecs& viscosity_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::number("alpha", "1", 1.0, "linear coefficient", 0.0, 10.0),
+      ParamSpec::number("beta", "1", 1.0, "quadratic coefficient", 0.0, 10.0),
+      ParamSpec::number("eta", "1", 0.1, "singularity guard as a fraction of h", 1e-6, 1.0),
+  };
+  return specs;
+}
+
+const ParamSpecs& contact_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::number("stiffness_factor", "1", 1.0,
+                        "kappa: penalty stiffness k = kappa M dx, M = rho0 c^2 (theory eq. 10)", 1e-3, 10.0),
+      ParamSpec::number("damping_ratio", "1", 0.2, "fraction of critical damping of the contact spring", 0.0, 1.0),
+      ParamSpec::object("law", "friction law plugin used on every tool", true),
+      ParamSpec::object("tool_laws", "per-tool friction laws overriding 'law', keyed by tool name"),
+  };
+  return specs;
+}
+
+const ParamSpecs& run_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::number("end_time", "s", std::nullopt, "simulated time to run", 0.0),
+      ParamSpec::number("output_interval", "s", 0.0, "time between particle frames (0: end_time/20)", 0.0),
+      ParamSpec::number("history_interval", "s", 0.0, "time between history rows (0: output_interval/10)", 0.0),
+      ParamSpec::integer("max_steps", 0, "stop after this many steps (0: no limit)", 0),
+      ParamSpec::integer("threads", 0, "OpenMP threads (0: OpenMP default)", 0, 1024),
+  };
+  return specs;
+}
+
+/// Loads the plugin named in section["plugin"] and validates the rest of the section against it.
+std::pair<const PluginDescriptor*, ParamValues> load_plugin(PluginLoader& loader, PluginKind kind,
+                                                            const ParamValues& parent, const std::string& key,
+                                                            const json& section, const std::string& pointer) {
+  const std::string& file = parent.file();
+  if (!section.is_object()) throw InputError(file, pointer, "expected an object with a \"plugin\" name");
+  if (!section.contains("plugin"))
+    throw InputError(file, pointer + "/plugin", std::string("missing required value 'plugin' (name of a ") +
+                                                    to_string(kind) + " plugin; see `sphforge plugins`)");
+  if (!section["plugin"].is_string())
+    throw InputError(file, pointer + "/plugin", "expected a plugin name (string)");
+  const LoadedPlugin& plugin = loader.load(kind, section["plugin"].get<std::string>(), file, pointer + "/plugin");
+  (void)key;
+  ParamValues values = validate_parameters(section, plugin.descriptor->parameters, file, pointer, {"plugin"});
+  return {plugin.descriptor, std::move(values)};
+}
+
+bool finite3(const double* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+
+// --- progress -------------------------------------------------------------------------------------
+class Progress {
+ public:
+  Progress(ProgressMode mode, double end_time) : end_time_(end_time) {
+    if (mode == ProgressMode::Auto) mode = isatty(STDERR_FILENO) ? ProgressMode::Bar : ProgressMode::Lines;
+    mode_ = mode;
+    start_ = last_ = std::chrono::steady_clock::now();
+  }
+  void update(double time, long long steps, bool force = false) {
+    if (mode_ == ProgressMode::Quiet) return;
+    const auto now = std::chrono::steady_clock::now();
+    const double since_last = std::chrono::duration<double>(now - last_).count();
+    const double interval = mode_ == ProgressMode::Bar ? 0.2 : 10.0;
+    if (!force && since_last < interval) return;
+    last_ = now;
+    const double wall = std::chrono::duration<double>(now - start_).count();
+    const double frac = std::clamp(time / end_time_, 0.0, 1.0);
+    const double steps_per_s = wall > 0 ? steps / wall : 0.0;
+    const double eta = frac > 0 ? wall * (1.0 - frac) / frac : 0.0;
+    char line[200];
+    if (mode_ == ProgressMode::Bar) {
+      const int width = 30, filled = static_cast<int>(frac * width);
+      std::string bar(filled, '#');
+      bar.resize(width, '.');
+      std::snprintf(line, sizeof line, "\r[%s] %5.1f%%  t = %.4g s  %.0f steps/s  ETA %.0f s   ", bar.c_str(),
+                    100 * frac, time, steps_per_s, eta);
+      std::cerr << line << std::flush;
+    } else {
+      std::snprintf(line, sizeof line, "progress %5.1f%%  t = %.6g s  step %lld  %.0f steps/s  ETA %.0f s",
+                    100 * frac, time, steps, steps_per_s, eta);
+      std::cerr << line << std::endl;
+    }
+  }
+  void finish() {
+    if (mode_ == ProgressMode::Bar) std::cerr << std::endl;
+  }
+
+ private:
+  ProgressMode mode_;
+  double end_time_;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+}  // namespace
+
+// --- scene building -------------------------------------------------------------------------------
+class Simulation::Builder : public SceneBuilder {
+ public:
+  struct Body {
+    std::string name;
+    std::vector<Eigen::Vector3d> positions;
+    double spacing;
+  };
+  std::vector<Body> bodies;
+  std::vector<RigidTool> tools;
+
+  std::size_t add_body(const std::string& name, const std::vector<Eigen::Vector3d>& positions,
+                       double spacing_m) override {
+    if (!(spacing_m > 0.0)) throw std::invalid_argument("body '" + name + "': spacing must be positive");
+    bodies.push_back({name, positions, spacing_m});
+    return bodies.size() - 1;
+  }
+  std::size_t add_tool(RigidTool tool) override {
+    tools.push_back(std::move(tool));
+    return tools.size() - 1;
+  }
+};
+
+Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_file_(doc.file), loader_(loader) {
+  const std::string& file = doc.file;
+  if (!doc.root.is_object()) throw InputError(file, "", "expected a JSON object at the top level");
+  const ParamValues root = validate_parameters(doc.root, top_level_specs(), file, "");
+
+  const ParamValues case_section = root.sub("case", case_specs());
+  settings_.case_name = case_section.string("name");
+
+  const ParamValues numerics =
+      root.sub("numerics", numerics_specs());  // absent: validated as {} with defaults
+  settings_.kernel = numerics.string("kernel") == "wendland_c2" ? KernelKind::WendlandC2 : KernelKind::CubicSpline;
+  settings_.h_over_dx = numerics.number("h_over_dx");
+  settings_.cfl = numerics.number("cfl");
+  settings_.neighbour_skin = numerics.number("neighbour_skin");
+  const ParamValues av = numerics.sub("artificial_viscosity", viscosity_specs());
+  settings_.viscosity = {av.number("alpha"), av.number("beta"), av.number("eta")};
+
+  const ParamValues run = root.sub("run", run_specs());
+  settings_.end_time_s = run.number("end_time");
+  if (!(settings_.end_time_s > 0.0)) run.fail("end_time", "expected a positive duration");
+  settings_.output_interval_s = run.number("output_interval");
+  if (settings_.output_interval_s <= 0.0) settings_.output_interval_s = settings_.end_time_s / 20.0;
+  settings_.history_interval_s = run.number("history_interval");
+  if (settings_.history_interval_s <= 0.0) settings_.history_interval_s = settings_.output_interval_s / 10.0;
+  settings_.max_steps = run.integer("max_steps");
+  settings_.threads = static_cast<int>(run.integer("threads"));
+
+  // Plugins: material, process, contact laws, controllers.
+  {
+    auto [desc, values] = load_plugin(loader, PluginKind::Material, root, "material", doc.root["material"], "/material");
+    material_ = desc->make_material(values);
+  }
+  {
+    auto [desc, values] = load_plugin(loader, PluginKind::Process, root, "process", doc.root["process"], "/process");
+    process_ = desc->make_process(values);
+  }
+
+  // Build the scene.
+  Builder builder;
+  try {
+    process_->build(builder);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(file, "/process", e.what());
+  }
+  if (builder.bodies.empty()) throw InputError(file, "/process", "the process created no particles");
+  tools_ = std::move(builder.tools);
+
+  const ParamValues contact = root.sub("contact", contact_specs());
+  settings_.contact.stiffness_factor = contact.number("stiffness_factor");
+  settings_.contact.damping_ratio = contact.number("damping_ratio");
+  {
+    auto [desc, values] = load_plugin(loader, PluginKind::Contact, contact, "law", doc.root["contact"]["law"],
+                                      "/contact/law");
+    contact_laws_.push_back(desc->make_contact(values));
+  }
+  std::vector<const ContactLaw*> tool_laws(tools_.size(), contact_laws_.front().get());
+  if (contact.has("tool_laws") && contact.raw("tool_laws").is_object()) {
+    for (const auto& [tool_name, section] : contact.raw("tool_laws").items()) {
+      const std::string pointer = "/contact/tool_laws/" + json_pointer_escape(tool_name);
+      auto it = std::find_if(tools_.begin(), tools_.end(), [&](const RigidTool& t) { return t.name() == tool_name; });
+      if (it == tools_.end()) {
+        std::string names;
+        for (const auto& t : tools_) names += (names.empty() ? "" : ", ") + t.name();
+        throw InputError(file, pointer, "no tool named '" + tool_name + "'; this process has: " + names);
+      }
+      auto [desc, values] = load_plugin(loader, PluginKind::Contact, contact, tool_name, section, pointer);
+      contact_laws_.push_back(desc->make_contact(values));
+      tool_laws[static_cast<std::size_t>(it - tools_.begin())] = contact_laws_.back().get();
+    }
+  }
+  for (const ContactLaw* law : tool_laws) need_yield_ = need_yield_ || law->needs_yield_stress();
+
+  // Signals and controllers.
+  process_->bind_signals(signals_);
+  if (root.has("controllers")) {
+    const json& list = doc.root["controllers"];
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const std::string pointer = "/controllers/" + std::to_string(k);
+      auto [desc, values] = load_plugin(loader, PluginKind::Controller, root, "controllers", list[k], pointer);
+      controllers_.push_back(desc->make_controller(values));
+      controllers_.back()->bind(signals_);
+    }
+  }
+
+  // --- Pipeline: the passes this scene runs, and the fields they declare -------------------------
+  const FieldInfo position{field::position, 3, "m"}, velocity{field::velocity, 3, "m/s"},
+      acceleration{field::acceleration, 3, "m/s^2"}, mass{field::mass, 1, "kg"},
+      density{field::density, 1, "kg/m^3"}, density_rate{field::density_rate, 1, "kg/m^3/s"},
+      pressure{field::pressure, 1, "Pa"}, stress{field::deviatoric_stress, 6, "Pa"},
+      grad_v{field::velocity_gradient, 9, "1/s"}, contact_force{field::contact_force, 3, "N"},
+      id{field::id, 1, "1", FieldType::Int64}, body{field::body, 1, "1", FieldType::Int64};
+  passes_ = {
+      {"particles", {}, {id, body, mass}},
+      {"neighbour_search", {position}, {}},
+      {"velocity_gradient", {position, velocity, mass, density}, {grad_v}},
+      {"continuity", {grad_v, density}, {density_rate}},
+      {"jaumann_rotation", {grad_v}, {stress}},
+      {"material:" + doc.root["material"]["plugin"].get<std::string>(), {grad_v, density}, {stress, pressure}},
+      {"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}},
+      {"contact", {position, velocity, mass}, {contact_force}},
+      {"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}},
+  };
+  for (const FieldInfo& f : material_->fields()) passes_[5].writes.push_back(f);
+  std::vector<FieldInfo> process_fields = process_->fields();
+  if (!process_fields.empty()) passes_.push_back({"process:" + doc.root["process"]["plugin"].get<std::string>(), {}, process_fields});
+  for (const PassInfo& pass : passes_) {
+    for (const FieldInfo& f : pass.reads) fields_.declare(f, pass.name, Access::Read);
+    for (const FieldInfo& f : pass.writes) fields_.declare(f, pass.name, Access::Write);
+  }
+
+  // --- Particles ----------------------------------------------------------------------------------
+  for (const auto& b : builder.bodies) count_ += b.positions.size();
+  if (count_ == 0) throw InputError(file, "/process", "the process created no particles");
+  fields_.allocate(count_);
+  spacing_ = builder.bodies.front().spacing;
+  for (const auto& b : builder.bodies) spacing_ = std::max(spacing_, b.spacing);
+  h_ = settings_.h_over_dx * spacing_;
+  const double rho0 = material_->reference_density();
+  double* x = fields_.f64(field::position);
+  double* m = fields_.f64(field::mass);
+  double* rho = fields_.f64(field::density);
+  std::int64_t* ids = fields_.i64(field::id);
+  std::int64_t* body_of = fields_.i64(field::body);
+  std::size_t i = 0;
+  for (std::size_t b = 0; b < builder.bodies.size(); ++b) {
+    const auto& src = builder.bodies[b];
+    bodies_.push_back({src.name, i, src.positions.size(), src.spacing});
+    const double particle_mass = rho0 * src.spacing * src.spacing * src.spacing;
+    for (const auto& p : src.positions) {
+      for (int d = 0; d < 3; ++d) x[3 * i + d] = p[d];
+      m[i] = particle_mass;
+      rho[i] = rho0;
+      ids[i] = static_cast<std::int64_t>(i);
+      body_of[i] = static_cast<std::int64_t>(b);
+      ++i;
+    }
+  }
+  for (const auto& b : bodies_) material_->initialize(fields_, b.first, b.count);
+
+  const double c0 = material_->wave_speed();
+  contact_.configure(settings_.contact, tool_laws, spacing_, rho0 * c0 * c0);
+  if (need_yield_) yield_scratch_.resize(count_);
+  process_columns_ = process_->history_columns();
+  for (const auto& c : controllers_)
+    for (const auto& col : c->history_columns()) controller_columns_.push_back(col);
+}
+
+Simulation::~Simulation() = default;
+
+// --- time step ------------------------------------------------------------------------------------
+double Simulation::stable_time_step() {
+  const double* v = fields_.f64(field::velocity);
+  const double* m = fields_.f64(field::mass);
+  double vmax2 = 0.0, mmin = std::numeric_limits<double>::infinity();
+#pragma omp parallel for reduction(max : vmax2) reduction(min : mmin) schedule(static)
+  for (std::size_t i = 0; i < count_; ++i) {
+    vmax2 = std::max(vmax2, v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+    mmin = std::min(mmin, m[i]);
+  }
+  // NaN in a velocity makes vmax2 NaN or is lost by max(); the stability check finds it.
+  const double c = material_->wave_speed();
+  dt_cfl_ = settings_.cfl * h_ / (c + std::sqrt(vmax2));  // eq. 13
+  // Half the contact spring's stability limit: a safety margin for the damping's velocity lag.
+  dt_contact_ = 0.5 * contact_.stable_time_step(mmin);
+  return std::min(dt_cfl_, dt_contact_);
+}
+
+void Simulation::check_stability() const {
+  // Cheap every step: all positions, velocities and the time step. Stress every 10 steps.
+  const double* x = fields_.f64(field::position);
+  const double* v = fields_.f64(field::velocity);
+  const std::int64_t* ids = fields_.i64(field::id);
+  std::size_t bad = count_;
+  std::string bad_field;
+#pragma omp parallel for reduction(min : bad) schedule(static)
+  for (std::size_t i = 0; i < count_; ++i)
+    if (!finite3(x + 3 * i) || !finite3(v + 3 * i)) bad = std::min(bad, i);
+  if (bad < count_)
+    throw InstabilityError(step_, time_, ids[bad], finite3(x + 3 * bad) ? field::velocity : field::position,
+                           "value is not finite (NaN or Inf)");
+  if (step_ % 10 == 0) {
+    const double* s = fields_.f64(field::deviatoric_stress);
+    const double* p = fields_.f64(field::pressure);
+#pragma omp parallel for reduction(min : bad) schedule(static)
+    for (std::size_t i = 0; i < count_; ++i) {
+      bool ok = std::isfinite(p[i]);
+      for (int c = 0; c < 6; ++c) ok = ok && std::isfinite(s[6 * i + c]);
+      if (!ok) bad = std::min(bad, i);
+    }
+    if (bad < count_)
+      throw InstabilityError(step_, time_, ids[bad], field::deviatoric_stress, "stress is not finite (NaN or Inf)");
+  }
+  if (dt_ < 1e-3 * dt_initial_) {
+    // Find the fastest particle: it is what collapsed the step.
+    std::size_t fastest = 0;
+    double vmax = -1.0;
+    for (std::size_t i = 0; i < count_; ++i) {
+      const double s = std::sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+      if (s > vmax) { vmax = s; fastest = i; }
+    }
+    throw InstabilityError(step_, time_, ids[fastest], field::velocity,
+                           "time step collapsed to " + std::to_string(dt_) + " s (< 1e-3 of the initial " +
+                               std::to_string(dt_initial_) + " s); speed " + std::to_string(vmax) + " m/s");
+  }
+}
+
+// --- one step ---------------------------------------------------------------------------------------
+void Simulation::step() {
+  const std::size_t n = count_;
+  double* x = fields_.f64(field::position);
+  double* v = fields_.f64(field::velocity);
+  double* a = fields_.f64(field::acceleration);
+  double* m = fields_.f64(field::mass);
+  double* rho = fields_.f64(field::density);
+  double* drho = fields_.f64(field::density_rate);
+  double* p = fields_.f64(field::pressure);
+  double* S = fields_.f64(field::deviatoric_stress);
+  double* L = fields_.f64(field::velocity_gradient);
+  double* fc = fields_.f64(field::contact_force);
+
+  dt_ = stable_time_step();
+  if (step_ == 0) dt_initial_ = dt_;
+
+  ProcessContext ctx{time_, dt_, step_, &fields_, &tools_, &bodies_};
+  for (auto& c : controllers_) c->update(time_, dt_);
+  process_->before_step(ctx);
+
+  neighbours_.update(x, n, kernel_support_radius(h_), settings_.neighbour_skin * h_);
+  velocity_gradient(neighbours_, settings_.kernel, h_, x, v, m, rho, L, n);
+  continuity_density_rate(L, rho, drho, n);
+  jaumann_rotation(L, dt_, S, n);
+  for (const BodyRange& b : bodies_) {
+    MaterialBatch batch;
+    batch.count = b.count;
+    batch.dt = dt_;
+    batch.velocity_gradient = L + 9 * b.first;
+    batch.density = rho + b.first;
+    batch.deviatoric_stress = S + 6 * b.first;
+    batch.pressure = p + b.first;
+    batch.fields = &fields_;
+    batch.first = b.first;
+    material_->update_stress(batch);
+    if (need_yield_) material_->yield_stress(batch, yield_scratch_.data() + b.first);
+  }
+  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, material_->wave_speed(), x, v, m, rho, p, S,
+                a, n);
+  std::fill(fc, fc + 3 * n, 0.0);
+  contacts_ = contact_.apply(tools_, x, v, m, need_yield_ ? yield_scratch_.data() : nullptr, n, dt_, fc);
+
+  // Symplectic Euler (leapfrog with velocities at half steps): v^{n+1/2} = v^{n-1/2} + dt a^n,
+  // x^{n+1} = x^n + dt v^{n+1/2}  (eq. 14)
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double inv_m = 1.0 / m[i];
+    for (int d = 0; d < 3; ++d) {
+      a[3 * i + d] += fc[3 * i + d] * inv_m;
+      v[3 * i + d] += dt_ * a[3 * i + d];
+      x[3 * i + d] += dt_ * v[3 * i + d];
+    }
+    rho[i] += dt_ * drho[i];
+  }
+  for (auto& tool : tools_) tool.advance(dt_);
+  time_ += dt_;
+  ++step_;
+  ctx.time_s = time_;
+  ctx.step = step_;
+  process_->measure(ctx);
+  check_stability();
+}
+
+double Simulation::kinetic_energy() const {
+  const double* v = fields_.f64(field::velocity);
+  const double* m = fields_.f64(field::mass);
+  double e = 0.0;
+  for (std::size_t i = 0; i < count_; ++i)
+    e += 0.5 * m[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+  return e;
+}
+
+std::vector<std::string> Simulation::history_header() const {
+  std::vector<std::string> h = {"time_s", "step_1", "dt_s", "dt_cfl_s", "dt_contact_s", "neighbour_builds_1", "kinetic_energy_J",
+                                "contacts_1", "sticking_fraction_1"};
+  for (const auto& t : tools_) {
+    h.push_back(t.name() + "_force_x_N");
+    h.push_back(t.name() + "_force_y_N");
+    h.push_back(t.name() + "_force_z_N");
+    h.push_back(t.name() + "_torque_Nm");
+  }
+  for (const auto& c : process_columns_) h.push_back(c.name);
+  for (const auto& c : controller_columns_) h.push_back(c.name);
+  return h;
+}
+
+std::vector<double> Simulation::history_row() const {
+  std::vector<double> r = {time_, static_cast<double>(step_), dt_, dt_cfl_, dt_contact_,
+                           static_cast<double>(neighbours_.builds()), kinetic_energy(),
+                           static_cast<double>(contacts_), contact_.sticking_fraction()};
+  for (const auto& t : tools_) {
+    r.push_back(t.reaction_force_N.x());
+    r.push_back(t.reaction_force_N.y());
+    r.push_back(t.reaction_force_N.z());
+    r.push_back(t.reaction_torque_Nm);
+  }
+  for (const auto& c : process_columns_) r.push_back(*c.value);
+  for (const auto& c : controller_columns_) r.push_back(*c.value);
+  return r;
+}
+
+// --- the run ----------------------------------------------------------------------------------------
+Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode progress_mode) {
+  if (settings_.threads > 0) omp_set_num_threads(settings_.threads);
+  fs::create_directories(out_dir);
+  io::ParticleSeriesWriter particle_writer(out_dir);
+  io::ToolSeriesWriter tool_writer(out_dir);
+  io::HistoryWriter history(out_dir / "history.csv", history_header());
+  Progress progress(progress_mode, settings_.end_time_s);
+
+  int frame = 0;
+  auto write_frame = [&] {
+    particle_writer.write(frame, time_, fields_, count_);
+    tool_writer.write(frame, time_, tools_);
+    ++frame;
+  };
+  // Measure once so that the first history row is meaningful.
+  ProcessContext ctx0{time_, 0.0, step_, &fields_, &tools_, &bodies_};
+  process_->measure(ctx0);
+  write_frame();
+  history.append(history_row());
+  double next_output = settings_.output_interval_s, next_history = settings_.history_interval_s;
+
+  RunResult result;
+  std::string status = "completed";
+  const auto wall_start = std::chrono::steady_clock::now();
+  try {
+    while (time_ < settings_.end_time_s * (1.0 - 1e-12)) {
+      if (settings_.max_steps > 0 && step_ >= settings_.max_steps) { status = "max_steps"; break; }
+      ProcessContext ctx{time_, dt_, step_, &fields_, &tools_, &bodies_};
+      if (process_->finished(ctx)) { status = "process_finished"; break; }
+      step();
+      if (time_ >= next_history) {
+        history.append(history_row());
+        while (next_history <= time_) next_history += settings_.history_interval_s;
+      }
+      if (time_ >= next_output) {
+        write_frame();
+        history.flush();
+        while (next_output <= time_) next_output += settings_.output_interval_s;
+      }
+      progress.update(time_, step_);
+    }
+    progress.update(time_, step_, true);
+  } catch (const InstabilityError& e) {
+    progress.finish();
+    status = "unstable";
+    result.exit_code = 3;
+    result.message = e.what();
+    // Last frame for diagnosis (the state that blew up).
+    try { write_frame(); } catch (...) {}
+  }
+  progress.finish();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  if (result.exit_code == 0 && frame > 0) write_frame();
+  history.append(history_row());
+  history.flush();
+
+  json summary;
+  summary["case"] = settings_.case_name;
+  summary["case_file"] = case_file_;
+  summary["status"] = status;
+  if (!result.message.empty()) summary["diagnosis"] = result.message;
+  summary["particles"] = count_;
+  summary["steps"] = step_;
+  summary["simulated_time_s"] = time_;
+  summary["wall_time_s"] = wall;
+  summary["particle_steps_per_s"] = wall > 0 ? static_cast<double>(count_) * static_cast<double>(step_) / wall : 0.0;
+  summary["threads"] = omp_get_max_threads();
+  summary["backend"] = backend_description();
+  summary["frames"] = frame;
+  summary["metrics"] = process_->metrics();
+  json versions;
+  versions["core"] = kCoreVersion;
+  versions["plugin_abi"] = kPluginAbiVersion;
+  json plugins = json::object();
+  for (const LoadedPlugin* p : loader_.loaded())
+    plugins[p->descriptor->name] = {{"kind", to_string(p->descriptor->kind)}, {"version", p->descriptor->version}};
+  versions["plugins"] = plugins;
+  summary["versions"] = versions;
+  io::write_summary(out_dir / "summary.json", summary);
+  return result;
+}
+
+}  // namespace sphforge

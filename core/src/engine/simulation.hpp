@@ -1,0 +1,97 @@
+// One run of a case: validates the case and builds the scene (plugins, particles, tools) in the
+// constructor without touching the disk, then run() advances it and writes the outputs.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/contact.hpp"
+#include "engine/neighbours.hpp"
+#include "engine/sph_operators.hpp"
+#include "sphforge/case_file.hpp"
+#include "sphforge/plugin_loader.hpp"
+
+namespace sphforge {
+
+/// Settings of the core read from the case ("numerics", "run", "contact").
+struct CoreSettings {
+  std::string case_name;
+  KernelKind kernel = KernelKind::CubicSpline;
+  double h_over_dx = 1.3;
+  double cfl = 0.3;
+  double neighbour_skin = 0.2;  ///< Verlet skin, fraction of h
+  ArtificialViscosity viscosity;
+  ContactSettings contact;
+  double end_time_s = 0.0;
+  double output_interval_s = 0.0;
+  double history_interval_s = 0.0;
+  long long max_steps = 0;  ///< 0: no limit
+  int threads = 0;          ///< 0: OpenMP default
+};
+
+/// How progress is shown: a bar on a terminal, periodic lines otherwise, or nothing.
+enum class ProgressMode { Auto, Bar, Lines, Quiet };
+
+/// A pass of the per-step pipeline with the fields it reads and writes. The registry allocates
+/// exactly the union of what the assembled passes (and plugins) declare.
+struct PassInfo {
+  std::string name;
+  std::vector<FieldInfo> reads, writes;
+};
+
+class Simulation {
+ public:
+  Simulation(const CaseDocument& doc, PluginLoader& loader);
+  ~Simulation();
+
+  struct RunResult {
+    int exit_code = 0;  ///< 0 done, 3 instability
+    std::string message;
+  };
+  RunResult run(const std::filesystem::path& out_dir, ProgressMode progress);
+
+  const CoreSettings& settings() const { return settings_; }
+  std::size_t particle_count() const { return count_; }
+  const FieldRegistry& fields() const { return fields_; }
+  const std::vector<PassInfo>& passes() const { return passes_; }
+  const std::vector<RigidTool>& tools() const { return tools_; }
+
+ private:
+  class Builder;
+  void step();
+  double stable_time_step();
+  void check_stability() const;
+  std::vector<std::string> history_header() const;
+  std::vector<double> history_row() const;
+  double kinetic_energy() const;
+
+  CoreSettings settings_;
+  std::string case_file_;
+  PluginLoader& loader_;
+  std::unique_ptr<Material> material_;
+  std::unique_ptr<Process> process_;
+  std::vector<std::unique_ptr<ContactLaw>> contact_laws_;
+  std::vector<std::unique_ptr<Controller>> controllers_;
+  SignalBus signals_;
+
+  FieldRegistry fields_;
+  std::vector<PassInfo> passes_;
+  std::vector<BodyRange> bodies_;
+  std::vector<RigidTool> tools_;
+  NeighbourList neighbours_;
+  PenaltyContact contact_;
+  bool need_yield_ = false;
+  std::vector<double> yield_scratch_;
+
+  std::size_t count_ = 0;
+  double spacing_ = 0.0, h_ = 0.0;
+  double time_ = 0.0, dt_ = 0.0, dt_initial_ = 0.0, dt_cfl_ = 0.0, dt_contact_ = 0.0;
+  long long step_ = 0;
+  std::size_t contacts_ = 0;
+  std::vector<HistoryColumn> process_columns_, controller_columns_;
+};
+
+}  // namespace sphforge

@@ -1,0 +1,83 @@
+// Writers of the output contract (DESIGN.md "Outputs"): VTK XML series for ParaView,
+// history.csv and summary.json. Internal to the core (not plugin API).
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sphforge/fields.hpp"
+#include "sphforge/tool.hpp"
+
+namespace sphforge::io {
+
+// Errors: a file or directory that cannot be created or written -> std::runtime_error naming
+// the path; a caller mistake (missing "position" field, row of the wrong length) ->
+// std::logic_error.
+
+/// particles.pvd + particles_NNNNNN.vtu (binary, appended, vtkXMLUnstructuredGridWriter).
+/// Every allocated field with FieldInfo::output is written as point data under its own name;
+/// points are the "position" field; cells are VTK_VERTEX so ParaView shows them directly.
+/// The .pvd collection is rewritten after each frame so it is valid even if a run stops early.
+/// Each .vtu also carries field data "TimeValue" (the time) and "units" ("name=unit" strings).
+class ParticleSeriesWriter {
+ public:
+  /// Creates `directory` if needed.
+  explicit ParticleSeriesWriter(std::filesystem::path directory);
+  /// Writes frame number `frame` at simulated time `time_s` for particles [0, count).
+  /// Writing a frame number again replaces that frame (file and .pvd entry).
+  void write(int frame, double time_s, const FieldRegistry& fields, std::size_t count);
+
+ private:
+  std::filesystem::path directory_;
+  std::vector<std::pair<double, std::string>> frames_;
+};
+
+/// tools.pvd + tools_NNNNNN_<toolname>.vtp: each rigid tool's surface of revolution in its
+/// current pose (profile revolved about z in `segments` angular steps), one part per tool.
+/// Points are numbered profile-major (point j of the profile at angle step k is j*segments + k);
+/// quads are wound so that their normal points to the workpiece side of the profile.
+/// Characters of a tool name other than [A-Za-z0-9_.-] become '_' in the file name.
+class ToolSeriesWriter {
+ public:
+  /// Creates `directory` if needed; `segments` must be >= 3 (std::invalid_argument otherwise).
+  explicit ToolSeriesWriter(std::filesystem::path directory, int segments = 48);
+  void write(int frame, double time_s, const std::vector<RigidTool>& tools);
+
+ private:
+  std::filesystem::path directory_;
+  int segments_;
+  struct Entry { double time; int part; std::string file; };
+  std::vector<Entry> entries_;
+};
+
+/// history.csv: header once, then one row per call. Full precision (%.17g).
+/// The file is truncated on construction; its directory must exist.
+class HistoryWriter {
+ public:
+  HistoryWriter(const std::filesystem::path& file, const std::vector<std::string>& columns);
+  /// `row.size()` must equal the number of columns (std::logic_error otherwise).
+  void append(const std::vector<double>& row);
+  void flush();
+
+ private:
+  std::filesystem::path path_;
+  std::ofstream out_;
+  std::size_t columns_;
+};
+
+/// Writes summary.json (pretty-printed, atomically via a temporary file and rename).
+void write_summary(const std::filesystem::path& file, const nlohmann::json& summary);
+
+/// Writes the small XML collection file of a .pvd series. VTK has no writer for the plain
+/// time-series collection format that ParaView reads, so this one file is written by hand.
+/// Each tuple is (time, part, file name relative to the .pvd). Replaced atomically (tmp + rename).
+void write_pvd(const std::filesystem::path& file,
+               const std::vector<std::tuple<double, int, std::string>>& datasets);
+
+}  // namespace sphforge::io

@@ -1,0 +1,61 @@
+// Controller plugin `prescribed`: holds one commanded quantity at a constant value, e.g. the
+// ram velocity of a ram-extrusion process.
+#include "sphforge/errors.hpp"
+#include "sphforge/plugin.hpp"
+#include "sphforge/units.hpp"
+
+namespace {
+
+using namespace sphforge;
+
+class Prescribed final : public Controller {
+ public:
+  explicit Prescribed(const ParamValues& p) : params_(p) {}
+
+  void bind(SignalBus& bus) override {
+    const std::string& name = params_.string("command");
+    const SignalBus::Signal* signal = bus.command(name);
+    if (!signal) {
+      std::string names;
+      for (const auto& n : bus.command_names()) names += (names.empty() ? "" : ", ") + n;
+      params_.fail("command", "unknown command '" + name + "'; this process accepts: " + names);
+    }
+    // The value's unit is that of the command, known only now.
+    const json& raw = params_.raw("value");
+    try {
+      value_ = raw.is_number() ? raw.get<double>() : parse_quantity(raw.get<std::string>(), signal->unit);
+    } catch (const std::invalid_argument& e) {
+      params_.fail("value", e.what());
+    }
+    target_ = signal->value;
+    *target_ = value_;
+  }
+
+  void update(double, double) override { *target_ = value_; }
+
+ private:
+  ParamValues params_;
+  double* target_ = nullptr;
+  double value_ = 0.0;
+};
+
+const PluginDescriptor& descriptor() {
+  static const PluginDescriptor d = [] {
+    PluginDescriptor p;
+    p.kind = PluginKind::Controller;
+    p.name = "prescribed";
+    p.version = "0.1.0";
+    p.doc = "holds a commanded quantity (e.g. ram_velocity) at a constant value";
+    p.parameters = {
+        ParamSpec::string("command", std::nullopt, "name of the commanded quantity (see the process)"),
+        ParamSpec::string("value", std::nullopt, "value with the command's unit, e.g. \"1 mm/s\""),
+    };
+    p.make_controller = [](const ParamValues& v) { return std::make_unique<Prescribed>(v); };
+    return p;
+  }();
+  return d;
+}
+
+}  // namespace
+
+SPHFORGE_PLUGIN(descriptor)

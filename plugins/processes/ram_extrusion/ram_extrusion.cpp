@@ -1,0 +1,175 @@
+// Process plugin `ram_extrusion`: a billet in a cylindrical barrel, pushed by a flat ram through
+// a die with a square (flat) entry, a filleted entry corner and a cylindrical land.
+// Geometry and reference numbers: cases/ram_extrusion/reference/paste_ram_extrusion.md.
+//
+// Coordinates: z is the extrusion axis, the die face is the plane z = 0, the billet occupies
+// 0 < z < billet_height inside r < D0/2, and the extrudate leaves downwards (z < 0).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "sphforge/plugin.hpp"
+
+namespace {
+
+using namespace sphforge;
+
+class RamExtrusion final : public Process {
+ public:
+  explicit RamExtrusion(const ParamValues& p) {
+    barrel_radius_ = 0.5 * p.number("barrel_diameter");
+    ram_radius_ = 0.5 * p.number("ram_diameter");
+    billet_height_ = p.number("billet_height");
+    die_radius_ = 0.5 * p.number("die_diameter");
+    land_length_ = p.number("land_length");
+    fillet_ = p.number("entry_fillet_radius");
+    spacing_ = p.number("particle_spacing");
+    stroke_ = p.number("stroke");
+    window_start_ = p.number("steady_window_start");
+    if (die_radius_ + fillet_ >= barrel_radius_)
+      p.fail("die_diameter", "die radius plus entry fillet must be smaller than the barrel radius");
+    if (ram_radius_ > barrel_radius_) p.fail("ram_diameter", "the ram must fit in the barrel");
+    if (spacing_ * 4 > billet_height_ || spacing_ * 2 > die_radius_ * 2 + 1e-12)
+      p.fail("particle_spacing", "too coarse: need at least 4 particles over the billet height and 2 across the die");
+    exit_z_ = -std::max(land_length_, fillet_);
+  }
+
+  void build(SceneBuilder& scene) override {
+    // Billet: a cubic lattice inside the barrel, half a spacing away from every wall so that the
+    // particles start exactly touching the tools (contact distance = spacing/2).
+    std::vector<Eigen::Vector3d> points;
+    const int nr = static_cast<int>(std::ceil(barrel_radius_ / spacing_));
+    const int nz = static_cast<int>(std::floor(billet_height_ / spacing_ + 1e-9));
+    const double rmax = barrel_radius_ - 0.5 * spacing_ + 1e-9 * spacing_;
+    for (int k = 0; k < nz; ++k)
+      for (int j = -nr; j < nr; ++j)
+        for (int i = -nr; i < nr; ++i) {
+          const Eigen::Vector3d x((i + 0.5) * spacing_, (j + 0.5) * spacing_, (k + 0.5) * spacing_);
+          if (std::hypot(x.x(), x.y()) <= rmax) points.push_back(x);
+        }
+    scene.add_body("billet", points, spacing_);
+    ram_top_start_ = nz * spacing_;
+
+    // Barrel wall r = R0, walked upwards (material on the left = inside).
+    barrel_ = scene.add_tool(RigidTool("barrel", {{barrel_radius_, 0.0}, {barrel_radius_, ram_top_start_ + 4 * spacing_}}));
+    // Die: up the land, round the entry fillet, out along the die face to the barrel.
+    std::vector<Eigen::Vector2d> die = {{die_radius_, exit_z_}};
+    if (fillet_ > 0.0) {
+      if (-fillet_ > exit_z_) die.emplace_back(die_radius_, -fillet_);
+      const auto arc = RigidTool::arc({die_radius_, -fillet_}, {die_radius_ + fillet_, 0.0},
+                                      {die_radius_ + fillet_, -fillet_}, 0.02 * spacing_);
+      die.insert(die.end(), arc.begin(), arc.end());
+    } else if (exit_z_ < 0.0) {
+      die.emplace_back(die_radius_, 0.0);
+    }
+    die.emplace_back(barrel_radius_, 0.0);
+    die_ = scene.add_tool(RigidTool("die", die));
+    // Ram face, walked inwards (material below), moved to the billet top.
+    RigidTool ram("ram", {{ram_radius_, 0.0}, {0.0, 0.0}});
+    ram.axial_offset_m = ram_top_start_;
+    ram_ = scene.add_tool(std::move(ram));
+  }
+
+  void bind_signals(SignalBus& bus) override {
+    bus.add_command("ram_velocity", "m/s", &ram_velocity_);
+    bus.add_measured("ram_force", "N", &ram_force_);
+    bus.add_measured("ram_displacement", "m", &ram_displacement_);
+    bus.add_measured("extrusion_pressure", "Pa", &pressure_);
+  }
+
+  void before_step(ProcessContext& ctx) override {
+    // The ram moves down (-z) at the commanded speed.
+    (*ctx.tools)[ram_].axial_velocity_m_s = -ram_velocity_;
+  }
+
+  void measure(ProcessContext& ctx) override {
+    const RigidTool& ram = (*ctx.tools)[ram_];
+    ram_displacement_ = ram_top_start_ - ram.axial_offset_m;
+    ram_force_ = ram.reaction_force_N.z();  // material pushes the ram up (+z)
+    pressure_ = ram_force_ / (std::numbers::pi * barrel_radius_ * barrel_radius_);
+    const double* x = ctx.fields->f64(field::position);
+    const std::size_t n = ctx.fields->size();
+    double zmin = std::numeric_limits<double>::infinity();
+    std::size_t below = 0;
+#pragma omp parallel for reduction(min : zmin) reduction(+ : below) schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      zmin = std::min(zmin, x[3 * i + 2]);
+      below += x[3 * i + 2] < exit_z_ ? 1 : 0;
+    }
+    extrudate_length_ = std::max(0.0, exit_z_ - (zmin - 0.5 * spacing_));
+    extruded_ = static_cast<double>(below);
+    if (ctx.dt_s > 0.0) {
+      peak_pressure_ = std::max(peak_pressure_, pressure_);
+      if (ram_displacement_ >= window_start_) {
+        window_sum_ += pressure_ * ctx.dt_s;
+        window_sum2_ += pressure_ * pressure_ * ctx.dt_s;
+        window_time_ += ctx.dt_s;
+      }
+    }
+  }
+
+  bool finished(const ProcessContext&) const override { return ram_displacement_ >= stroke_; }
+
+  std::vector<HistoryColumn> history_columns() const override {
+    return {{"ram_displacement_m", &ram_displacement_}, {"ram_velocity_m_s", &ram_velocity_},
+            {"ram_force_N", &ram_force_},               {"extrusion_pressure_Pa", &pressure_},
+            {"extrudate_length_m", &extrudate_length_}, {"extruded_particles_1", &extruded_}};
+  }
+
+  nlohmann::json metrics() const override {
+    nlohmann::json m;
+    m["peak_extrusion_pressure_Pa"] = peak_pressure_;
+    m["final_ram_displacement_m"] = ram_displacement_;
+    m["extrudate_length_m"] = extrudate_length_;
+    m["extruded_particles"] = extruded_;
+    m["steady_window_start_m"] = window_start_;
+    if (window_time_ > 0.0) {
+      // Time-weighted mean and standard deviation of P_ex over the steady window.
+      const double mean = window_sum_ / window_time_;
+      m["steady_extrusion_pressure_Pa"] = mean;
+      m["steady_extrusion_pressure_scatter_Pa"] =
+          std::sqrt(std::max(0.0, window_sum2_ / window_time_ - mean * mean));
+    } else {
+      m["steady_extrusion_pressure_Pa"] = nullptr;
+    }
+    return m;
+  }
+
+ private:
+  double barrel_radius_, ram_radius_, billet_height_, die_radius_, land_length_, fillet_, spacing_, stroke_;
+  double window_start_, exit_z_, ram_top_start_ = 0.0;
+  std::size_t barrel_ = 0, die_ = 0, ram_ = 0;
+  double ram_velocity_ = 0.0, ram_force_ = 0.0, ram_displacement_ = 0.0, pressure_ = 0.0;
+  double extrudate_length_ = 0.0, extruded_ = 0.0, peak_pressure_ = 0.0;
+  double window_sum_ = 0.0, window_sum2_ = 0.0, window_time_ = 0.0;
+};
+
+const PluginDescriptor& descriptor() {
+  static const PluginDescriptor d = [] {
+    PluginDescriptor p;
+    p.kind = PluginKind::Process;
+    p.name = "ram_extrusion";
+    p.version = "0.1.0";
+    p.doc = "billet in a barrel pushed by a ram through a square-entry die with a filleted corner and a land";
+    p.parameters = {
+        ParamSpec::number("barrel_diameter", "m", 25e-3, "barrel inner diameter D0", 1e-6),
+        ParamSpec::number("ram_diameter", "m", 24.93e-3, "ram diameter", 1e-6),
+        ParamSpec::number("billet_height", "m", 40e-3, "initial billet height", 1e-6),
+        ParamSpec::number("die_diameter", "m", 3e-3, "die (orifice and land) diameter D", 1e-6),
+        ParamSpec::number("land_length", "m", 0.0, "die land length L (0: orifice die)", 0.0),
+        ParamSpec::number("entry_fillet_radius", "m", 0.3e-3, "radius of the fillet on the die entry corner", 0.0),
+        ParamSpec::number("particle_spacing", "m", std::nullopt, "initial particle spacing dx", 1e-7),
+        ParamSpec::number("stroke", "m", 1.0, "the run ends when the ram has moved this far", 0.0),
+        ParamSpec::number("steady_window_start", "m", 0.0,
+                          "ram displacement from which the steady extrusion pressure is averaged", 0.0),
+    };
+    p.make_process = [](const ParamValues& v) { return std::make_unique<RamExtrusion>(v); };
+    return p;
+  }();
+  return d;
+}
+
+}  // namespace
+
+SPHFORGE_PLUGIN(descriptor)
