@@ -128,6 +128,10 @@ void apply_override(json& root, const std::string& override_text, const std::str
     std::size_t index = 0;
     if (node->is_object() && node->contains(seg)) {
       node = &(*node)[seg];
+    } else if (node->is_object()) {
+      // An optional section the file leaves out (e.g. numerics.artificial_viscosity) is created;
+      // validation then rejects it if no such section exists.
+      node = &((*node)[seg] = json::object());
     } else if (node->is_array() && parse_index(seg, index) && index < node->size()) {
       node = &(*node)[index];
     } else {

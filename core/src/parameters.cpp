@@ -25,6 +25,7 @@ const char* type_name(ParamType type) {
     case ParamType::String: return "string";
     case ParamType::Object: return "object";
     case ParamType::Array: return "array";
+    case ParamType::Quantity: return "quantity";
   }
   return "?";
 }
@@ -136,6 +137,10 @@ json validate_value(const json& value, const ParamSpec& spec, const std::string&
     case ParamType::Array:
       if (!value.is_array()) throw InputError(file, pointer, "expected an array, got " + show(value));
       return value;
+    case ParamType::Quantity:
+      if (!value.is_number() && !value.is_string())
+        throw InputError(file, pointer, "expected a number or a quantity string such as \"1 mm/s\", got " + show(value));
+      return value;
   }
   throw std::logic_error("unhandled ParamType");
 }
@@ -151,6 +156,15 @@ std::string missing_message(const ParamSpec& spec) {
 }  // namespace
 
 // --- ParamSpec builders -------------------------------------------------------------------
+
+ParamSpec ParamSpec::quantity(std::string name, std::string doc) {
+  ParamSpec s;
+  s.name = std::move(name);
+  s.type = ParamType::Quantity;
+  s.unit = "";
+  s.doc = std::move(doc);
+  return s;
+}
 
 ParamSpec ParamSpec::number(std::string name, std::string unit, std::optional<double> def,
                             std::string doc, double min, double max) {
@@ -296,6 +310,16 @@ const json& ParamValues::raw(const std::string& name) const {
     throw std::logic_error("parameter '" + name + "' is not declared in the section at '" + pointer_ +
                            "' (missing from its ParamSpecs?)");
   return values_.at(name);
+}
+
+double ParamValues::quantity(const std::string& name, const std::string& unit) const {
+  const json& value = raw(name);
+  if (value.is_number()) return value.get<double>();
+  try {
+    return parse_quantity(value.get<std::string>(), unit);
+  } catch (const std::invalid_argument& e) {
+    fail(name, e.what());
+  }
 }
 
 bool ParamValues::has(const std::string& name) const {

@@ -14,7 +14,9 @@ namespace sphforge {
 
 using json = nlohmann::json;
 
-enum class ParamType { Number, Integer, Boolean, String, Object, Array };
+/// Quantity: a number (SI) or a "value unit" string whose unit is only known later, e.g. a
+/// controller's value takes the unit of the command it drives; read it with ParamValues::quantity().
+enum class ParamType { Number, Integer, Boolean, String, Object, Array, Quantity };
 
 struct ParamSpec {
   std::string name;            ///< JSON key
@@ -37,6 +39,7 @@ struct ParamSpec {
   static ParamSpec string(std::string name, std::optional<std::string> def, std::string doc,
                           std::vector<std::string> choices = {});
   static ParamSpec object(std::string name, std::string doc, bool required = false);
+  static ParamSpec quantity(std::string name, std::string doc);  ///< required
   static ParamSpec array(std::string name, std::string doc, bool required = false);
 
   json describe() const;  ///< for `sphforge plugins --json`
@@ -56,6 +59,8 @@ class ParamValues {
   bool boolean(const std::string& name) const;
   const std::string& string(const std::string& name) const;
   const json& raw(const std::string& name) const;  ///< Object/Array values as given
+  /// A Quantity parameter converted to SI in `unit`; a wrong unit throws InputError at its pointer.
+  double quantity(const std::string& name, const std::string& unit) const;
   bool has(const std::string& name) const;          ///< present (given or defaulted)
 
   /// Validates the Object parameter `name` (or element `index` of an Array) against `specs`.

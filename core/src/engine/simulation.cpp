@@ -48,6 +48,7 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::number("h_over_dx", "1", 1.3, "smoothing length over particle spacing", 0.8, 3.0),
       ParamSpec::number("cfl", "1", 0.3, "Courant number of the time step dt = cfl h / (c + |v|max)", 1e-3, 2.0),
       ParamSpec::object("artificial_viscosity", "Monaghan artificial viscosity coefficients"),
+      ParamSpec::object("artificial_stress", "Gray-Monaghan-Swift artificial stress against tensile instability"),
       ParamSpec::number("neighbour_skin", "1", 0.2,
                         "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
   };
@@ -59,6 +60,14 @@ const ParamSpecs& viscosity_specs() {
       ParamSpec::number("alpha", "1", 1.0, "linear coefficient", 0.0, 10.0),
       ParamSpec::number("beta", "1", 1.0, "quadratic coefficient", 0.0, 10.0),
       ParamSpec::number("eta", "1", 0.1, "singularity guard as a fraction of h", 1e-6, 1.0),
+  };
+  return specs;
+}
+
+const ParamSpecs& artificial_stress_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::number("epsilon", "1", 0.3, "strength (0 disables the term)", 0.0, 1.0),
+      ParamSpec::number("exponent", "1", 4.0, "n in (W(r)/W(dx))^n", 1.0, 12.0),
   };
   return specs;
 }
@@ -188,6 +197,9 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.neighbour_skin = numerics.number("neighbour_skin");
   const ParamValues av = numerics.sub("artificial_viscosity", viscosity_specs());
   settings_.viscosity = {av.number("alpha"), av.number("beta"), av.number("eta")};
+  const ParamValues as = numerics.sub("artificial_stress", artificial_stress_specs());
+  settings_.artificial_stress.epsilon = as.number("epsilon");
+  settings_.artificial_stress.exponent = as.number("exponent");
 
   const ParamValues run = root.sub("run", run_specs());
   settings_.end_time_s = run.number("end_time");
@@ -289,6 +301,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   spacing_ = builder.bodies.front().spacing;
   for (const auto& b : builder.bodies) spacing_ = std::max(spacing_, b.spacing);
   h_ = settings_.h_over_dx * spacing_;
+  settings_.artificial_stress.w_dx = kernel_value(settings_.kernel, spacing_, h_);
   const double rho0 = material_->reference_density();
   double* x = fields_.f64(field::position);
   double* m = fields_.f64(field::mass);
@@ -400,7 +413,12 @@ void Simulation::step() {
   process_->before_step(ctx);
 
   neighbours_.update(x, n, kernel_support_radius(h_), settings_.neighbour_skin * h_);
-  velocity_gradient(neighbours_, settings_.kernel, h_, x, v, m, rho, L, n);
+  const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
+  scratch_.resize((with_artificial_stress ? 12 : 6) * n);
+  double* sigma_over_rho2 = scratch_.data();
+  double* artificial = with_artificial_stress ? scratch_.data() + 6 * n : nullptr;
+  particle_volume(m, rho, scratch_.data(), n);
+  velocity_gradient(neighbours_, settings_.kernel, h_, x, v, scratch_.data(), L, n);
   continuity_density_rate(L, rho, drho, n);
   jaumann_rotation(L, dt_, S, n);
   for (const BodyRange& b : bodies_) {
@@ -416,8 +434,10 @@ void Simulation::step() {
     material_->update_stress(batch);
     if (need_yield_) material_->yield_stress(batch, yield_scratch_.data() + b.first);
   }
-  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, material_->wave_speed(), x, v, m, rho, p, S,
-                a, n);
+  stress_over_density_squared(p, S, rho, sigma_over_rho2, n);
+  if (artificial) artificial_stress(sigma_over_rho2, settings_.artificial_stress.epsilon, artificial, n);
+  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, material_->wave_speed(), x, v, m, rho,
+                sigma_over_rho2, settings_.artificial_stress, artificial, a, n);
   std::fill(fc, fc + 3 * n, 0.0);
   contacts_ = contact_.apply(tools_, x, v, m, need_yield_ ? yield_scratch_.data() : nullptr, n, dt_, fc);
 

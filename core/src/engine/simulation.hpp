@@ -24,6 +24,7 @@ struct CoreSettings {
   double cfl = 0.3;
   double neighbour_skin = 0.2;  ///< Verlet skin, fraction of h
   ArtificialViscosity viscosity;
+  ArtificialStress artificial_stress;
   ContactSettings contact;
   double end_time_s = 0.0;
   double output_interval_s = 0.0;
@@ -85,6 +86,7 @@ class Simulation {
   PenaltyContact contact_;
   bool need_yield_ = false;
   std::vector<double> yield_scratch_;
+  std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, sigma/rho^2)
 
   std::size_t count_ = 0;
   double spacing_ = 0.0, h_ = 0.0;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 namespace sphforge {
 
 namespace {
@@ -9,8 +11,8 @@ namespace {
 constexpr int kSym[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
 
 template <KernelKind K>
-void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, const double* v, const double* m,
-                            const double* rho, double* L, std::size_t n) {
+void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, const double* v,
+                            const double* volume, double* L, std::size_t n) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     double l[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
@@ -20,49 +22,49 @@ void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, 
       const std::size_t j = *p;
       const double xij[3] = {xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]};
       const double r = std::sqrt(xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2]);
-      const double f = kernel_gradient_factor(K, r, h) * m[j] / rho[j];  // V_j (dW/dr)/r
-      const double dv[3] = {v[3 * j] - vi[0], v[3 * j + 1] - vi[1], v[3 * j + 2] - vi[2]};
+      const double f = kernel_gradient_factor(K, r, h) * volume[j];  // V_j (dW/dr)/r
+      const double dv[3] = {(v[3 * j] - vi[0]) * f, (v[3 * j + 1] - vi[1]) * f, (v[3 * j + 2] - vi[2]) * f};
       for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) l[3 * a + b] += dv[a] * f * xij[b];
+        for (int b = 0; b < 3; ++b) l[3 * a + b] += dv[a] * xij[b];
     }
     for (int c = 0; c < 9; ++c) L[9 * i + c] = l[c];
   }
 }
 
-template <KernelKind K>
+template <KernelKind K, bool WithArtificialStress>
 void momentum_rate_impl(const NeighbourList& nl, double h, const ArtificialViscosity& av, double c0,
-                        const double* x, const double* v, const double* m, const double* rho, const double* p,
-                        const double* S, double* acc, std::size_t n) {
+                        const double* x, const double* v, const double* m, const double* rho,
+                        const double* sigma_over_rho2, const ArtificialStress& as, const double* R, double* acc,
+                        std::size_t n) {
   const double eta2h2 = av.eta * av.eta * h * h;
+  const double inv_w_dx = WithArtificialStress ? 1.0 / as.w_dx : 0.0;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
     const double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-    const double inv_rho_i2 = 1.0 / (rho[i] * rho[i]);
-    double si[6];
-    for (int c = 0; c < 6; ++c) si[c] = S[6 * i + c] * inv_rho_i2;
-    const double pi = p[i] * inv_rho_i2;
+    const double* ti = sigma_over_rho2 + 6 * i;
     double a[3] = {0, 0, 0};
     for (const std::uint32_t* q = nl.begin(i); q != nl.end(i); ++q) {
       const std::size_t j = *q;
       const double xij[3] = {xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]};
       const double r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
       const double gw = kernel_gradient_factor(K, std::sqrt(r2), h);  // grad_i W_ij = gw * x_ij
-      const double inv_rho_j2 = 1.0 / (rho[j] * rho[j]);
-      // sigma/rho^2 summed over the pair, sigma = S - p I  (eq. 7)
+      if (gw == 0.0) continue;  // outside the support (the list includes the Verlet skin)
+      // sigma_i/rho_i^2 + sigma_j/rho_j^2, sigma = S - p I  (eq. 7)
+      const double* tj = sigma_over_rho2 + 6 * j;
       double t[6];
-      for (int c = 0; c < 6; ++c) t[c] = si[c] + S[6 * j + c] * inv_rho_j2;
-      const double pp = pi + p[j] * inv_rho_j2;
-      t[0] -= pp;
-      t[1] -= pp;
-      t[2] -= pp;
+      for (int c = 0; c < 6; ++c) t[c] = ti[c] + tj[c];
+      if constexpr (WithArtificialStress) {
+        // f_ij^n (R_i + R_j), f_ij = W(r_ij)/W(dx)  (eq. 9)
+        const double f = std::pow(kernel_value(K, std::sqrt(r2), h) * inv_w_dx, as.exponent);
+        for (int c = 0; c < 6; ++c) t[c] += f * (R[6 * i + c] + R[6 * j + c]);
+      }
       // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
       const double vij_xij = (vi[0] - v[3 * j]) * xij[0] + (vi[1] - v[3 * j + 1]) * xij[1] +
                              (vi[2] - v[3 * j + 2]) * xij[2];
       if (vij_xij < 0.0) {
         const double mu = h * vij_xij / (r2 + eta2h2);
-        const double rho_bar = 0.5 * (rho[i] + rho[j]);
-        const double Pi = (-av.alpha * c0 * mu + av.beta * mu * mu) / rho_bar;
+        const double Pi = (-av.alpha * c0 * mu + av.beta * mu * mu) / (0.5 * (rho[i] + rho[j]));
         t[0] -= Pi;
         t[1] -= Pi;
         t[2] -= Pi;
@@ -79,11 +81,26 @@ void momentum_rate_impl(const NeighbourList& nl, double h, const ArtificialVisco
 }  // namespace
 
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
-                       const double* mass, const double* density, double* L, std::size_t n) {
+                       const double* volume, double* L, std::size_t n) {
   if (kernel == KernelKind::WendlandC2)
-    velocity_gradient_impl<KernelKind::WendlandC2>(nl, h, x, v, mass, density, L, n);
+    velocity_gradient_impl<KernelKind::WendlandC2>(nl, h, x, v, volume, L, n);
   else
-    velocity_gradient_impl<KernelKind::CubicSpline>(nl, h, x, v, mass, density, L, n);
+    velocity_gradient_impl<KernelKind::CubicSpline>(nl, h, x, v, volume, L, n);
+}
+
+void particle_volume(const double* mass, const double* density, double* volume, std::size_t n) {
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) volume[i] = mass[i] / density[i];
+}
+
+void stress_over_density_squared(const double* pressure, const double* S, const double* density,
+                                 double* sigma_over_rho2, std::size_t n) {
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double inv = 1.0 / (density[i] * density[i]);
+    for (int c = 0; c < 6; ++c) sigma_over_rho2[6 * i + c] = S[6 * i + c] * inv;
+    for (int c = 0; c < 3; ++c) sigma_over_rho2[6 * i + c] -= pressure[i] * inv;
+  }
 }
 
 void continuity_density_rate(const double* L, const double* density, double* density_rate, std::size_t n) {
@@ -121,13 +138,46 @@ void jaumann_rotation(const double* L, double dt, double* S, std::size_t n) {
 
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
-                   const double* pressure, const double* deviatoric_stress, double* acceleration, std::size_t n) {
-  if (kernel == KernelKind::WendlandC2)
-    momentum_rate_impl<KernelKind::WendlandC2>(nl, h, av, sound_speed, x, v, mass, density, pressure,
-                                               deviatoric_stress, acceleration, n);
-  else
-    momentum_rate_impl<KernelKind::CubicSpline>(nl, h, av, sound_speed, x, v, mass, density, pressure,
-                                                deviatoric_stress, acceleration, n);
+                   const double* sigma_over_rho2, const ArtificialStress& as, const double* R,
+                   double* acceleration, std::size_t n) {
+  const bool stress = R != nullptr && as.epsilon > 0.0;
+  if (kernel == KernelKind::WendlandC2) {
+    if (stress)
+      momentum_rate_impl<KernelKind::WendlandC2, true>(nl, h, av, sound_speed, x, v, mass, density, sigma_over_rho2,
+                                                       as, R, acceleration, n);
+    else
+      momentum_rate_impl<KernelKind::WendlandC2, false>(nl, h, av, sound_speed, x, v, mass, density,
+                                                        sigma_over_rho2, as, R, acceleration, n);
+  } else {
+    if (stress)
+      momentum_rate_impl<KernelKind::CubicSpline, true>(nl, h, av, sound_speed, x, v, mass, density,
+                                                        sigma_over_rho2, as, R, acceleration, n);
+    else
+      momentum_rate_impl<KernelKind::CubicSpline, false>(nl, h, av, sound_speed, x, v, mass, density,
+                                                         sigma_over_rho2, as, R, acceleration, n);
+  }
+}
+
+void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R, std::size_t n) {
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* t = sigma_over_rho2 + 6 * i;
+    Eigen::Matrix3d sigma;
+    sigma << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(sigma);
+    const Eigen::Vector3d principal = eig.eigenvalues();
+    Eigen::Vector3d r_principal;
+    for (int k = 0; k < 3; ++k) r_principal[k] = principal[k] > 0.0 ? -epsilon * principal[k] : 0.0;
+    const Eigen::Matrix3d r = eig.eigenvectors() * r_principal.asDiagonal() * eig.eigenvectors().transpose();
+    double* out = R + 6 * i;
+    out[0] = r(0, 0);
+    out[1] = r(1, 1);
+    out[2] = r(2, 2);
+    out[3] = r(0, 1);
+    out[4] = r(1, 2);
+    out[5] = r(0, 2);
+  }
 }
 
 }  // namespace sphforge

@@ -15,10 +15,18 @@ struct ArtificialViscosity {
   double eta = 0.1;    ///< singularity guard, as a fraction of h
 };
 
+/// Particle volume V_i = m_i / rho_i.
+void particle_volume(const double* mass, const double* density, double* volume, std::size_t n);
+
 /// Velocity gradient L_i = sum_j V_j (v_j - v_i) (x) grad_i W_ij   (theory eq. 3)
 /// L stored row-major, 9 per particle, L_ab = dv_a/dx_b.
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
-                       const double* mass, const double* density, double* L, std::size_t n);
+                       const double* volume, double* L, std::size_t n);
+
+/// sigma_i / rho_i^2 with sigma = S - p I (6 per particle), the per-particle half of eq. 7,
+/// computed once per step instead of once per pair.
+void stress_over_density_squared(const double* pressure, const double* deviatoric_stress, const double* density,
+                                 double* sigma_over_rho2, std::size_t n);
 
 /// Continuity equation: drho_i/dt = -rho_i tr(L_i)   (theory eq. 4)
 void continuity_density_rate(const double* L, const double* density, double* density_rate, std::size_t n);
@@ -27,12 +35,24 @@ void continuity_density_rate(const double* L, const double* density, double* den
 /// S <- S + dt (Omega S - S Omega), Omega = (L - L^T)/2   (theory eq. 6)
 void jaumann_rotation(const double* L, double dt, double* deviatoric_stress, std::size_t n);
 
+struct ArtificialStress {
+  double epsilon = 0.3;   ///< 0 disables the term (and its pass)
+  double exponent = 4.0;  ///< n in f_ij = (W(r_ij)/W(dx))^n
+  double w_dx = 0.0;      ///< W(dx, h), set by the core from the initial spacing
+};
+
+/// Gray-Monaghan-Swift artificial stress R_i (6 per particle, theory eq. 9): in the principal
+/// frame of sigma_i, R'_k = -epsilon sigma'_k / rho_i^2 for tensile sigma'_k > 0, else 0.
+void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R, std::size_t n);
+
 /// Momentum equation, pairwise-symmetric form with Monaghan artificial viscosity:
 /// a_i = sum_j m_j [ sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi_ij I ] . grad_i W_ij   (theory eqs. 7-8)
+/// plus, when R is given, the artificial stress f_ij^n (R_i + R_j) (eq. 9).
 /// sigma = S - p I. Because the pair term is antisymmetric in (i, j) and evaluated with the same
 /// operands in the same order from both sides, linear momentum is conserved to round-off.
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
-                   const double* pressure, const double* deviatoric_stress, double* acceleration, std::size_t n);
+                   const double* sigma_over_rho2, const ArtificialStress& as, const double* R,
+                   double* acceleration, std::size_t n);
 
 }  // namespace sphforge

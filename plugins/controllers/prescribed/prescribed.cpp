@@ -2,7 +2,6 @@
 // ram velocity of a ram-extrusion process.
 #include "sphforge/errors.hpp"
 #include "sphforge/plugin.hpp"
-#include "sphforge/units.hpp"
 
 namespace {
 
@@ -21,12 +20,7 @@ class Prescribed final : public Controller {
       params_.fail("command", "unknown command '" + name + "'; this process accepts: " + names);
     }
     // The value's unit is that of the command, known only now.
-    const json& raw = params_.raw("value");
-    try {
-      value_ = raw.is_number() ? raw.get<double>() : parse_quantity(raw.get<std::string>(), signal->unit);
-    } catch (const std::invalid_argument& e) {
-      params_.fail("value", e.what());
-    }
+    value_ = params_.quantity("value", signal->unit);
     target_ = signal->value;
     *target_ = value_;
   }
@@ -48,7 +42,7 @@ const PluginDescriptor& descriptor() {
     p.doc = "holds a commanded quantity (e.g. ram_velocity) at a constant value";
     p.parameters = {
         ParamSpec::string("command", std::nullopt, "name of the commanded quantity (see the process)"),
-        ParamSpec::string("value", std::nullopt, "value with the command's unit, e.g. \"1 mm/s\""),
+        ParamSpec::quantity("value", "value in the command's unit, e.g. \"1 mm/s\" for ram_velocity"),
     };
     p.make_controller = [](const ParamValues& v) { return std::make_unique<Prescribed>(v); };
     return p;

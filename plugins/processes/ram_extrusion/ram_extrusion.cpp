@@ -53,8 +53,9 @@ class RamExtrusion final : public Process {
 
     // Barrel wall r = R0, walked upwards (material on the left = inside).
     barrel_ = scene.add_tool(RigidTool("barrel", {{barrel_radius_, 0.0}, {barrel_radius_, ram_top_start_ + 4 * spacing_}}));
-    // Die: up the land, round the entry fillet, out along the die face to the barrel.
-    std::vector<Eigen::Vector2d> die = {{die_radius_, exit_z_}};
+    // Die: in along its underside (so that extrudate swelling below the exit is outside the die,
+    // not behind an open edge), up the land, round the entry fillet, out along the face.
+    std::vector<Eigen::Vector2d> die = {{barrel_radius_, exit_z_}, {die_radius_, exit_z_}};
     if (fillet_ > 0.0) {
       if (-fillet_ > exit_z_) die.emplace_back(die_radius_, -fillet_);
       const auto arc = RigidTool::arc({die_radius_, -fillet_}, {die_radius_ + fillet_, 0.0},
