@@ -1,8 +1,9 @@
-# sphforge_add_plugin(NAME SOURCES src.cpp... [LIBRARIES lib...])
+# sphforge_add_plugin(NAME SOURCES src.cpp... [LIBRARIES lib...] [OUTPUT_DIRECTORY dir] [NO_INSTALL])
+# NO_INSTALL: for test-only plugins, which must never reach an installed plugin folder.
 # Builds the shared library sphforge_NAME.so that the loader finds by the plugin's name.
 # A plugin needs only the public headers (core/include/sphforge) and libsphforge_core.
 function(sphforge_add_plugin name)
-  cmake_parse_arguments(P "" "OUTPUT_DIRECTORY" "SOURCES;LIBRARIES" ${ARGN})
+  cmake_parse_arguments(P "NO_INSTALL" "OUTPUT_DIRECTORY" "SOURCES;LIBRARIES" ${ARGN})
   if(NOT P_SOURCES)
     message(FATAL_ERROR "sphforge_add_plugin(${name}): SOURCES is required")
   endif()
@@ -22,6 +23,8 @@ function(sphforge_add_plugin name)
     CXX_VISIBILITY_PRESET hidden
     VISIBILITY_INLINES_HIDDEN ON
     INSTALL_RPATH "$ORIGIN/../..")
-  install(TARGETS ${target} LIBRARY DESTINATION "${SPHFORGE_PLUGIN_INSTALL_DIR}")
-  set_property(GLOBAL APPEND PROPERTY SPHFORGE_PLUGIN_TARGETS ${target})
+  if(NOT P_NO_INSTALL)
+    install(TARGETS ${target} LIBRARY DESTINATION "${SPHFORGE_PLUGIN_INSTALL_DIR}")
+    set_property(GLOBAL APPEND PROPERTY SPHFORGE_PLUGIN_TARGETS ${target})
+  endif()
 endfunction()

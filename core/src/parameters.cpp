@@ -235,8 +235,10 @@ json ParamSpec::describe() const {
   json d = json::object();
   d["name"] = name;
   d["type"] = type_name(type);
+  // Every parameter carries "unit": SI unit of numbers, null where it has none (strings,
+  // objects) or where it follows another parameter (a Quantity takes its command's unit).
+  d["unit"] = (type == ParamType::Number || type == ParamType::Integer) ? json(unit) : json(nullptr);
   if (type == ParamType::Number || type == ParamType::Integer) {
-    d["unit"] = unit;
     if (std::isfinite(min)) d["min"] = min;
     if (std::isfinite(max)) d["max"] = max;
   }

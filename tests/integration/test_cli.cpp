@@ -43,9 +43,6 @@ const std::string kExe = SPHFORGE_EXECUTABLE;
 const std::string kCoreLibrary = SPHFORGE_CORE_LIBRARY;
 const std::string kQuickCase = std::string(SPHFORGE_SOURCE_DIR) + "/cases/ram_extrusion/paste_orifice_quick.json";
 
-// A smaller billet (8 layers of 0.75 mm instead of 13) keeps the 300-step run well under a
-// minute on a small CI machine while keeping the quick case's die, material and ram.
-const std::vector<std::string> kSmallerBillet = {"--set", "process.billet_height=6 mm"};
 // A tiny case (4 layers of 1 mm, 1792 particles) for runs that only need to start.
 const std::vector<std::string> kTinyCase = {"--set", "process.billet_height=4 mm", "--set",
                                             "process.particle_spacing=1 mm"};
@@ -99,13 +96,15 @@ struct Result {
 
 /// Runs a shell command line in `cwd`, capturing stdout and stderr separately (into files in
 /// `capture_dir`, never in `cwd`) and the exit status. SPHFORGE_PLUGIN_PATH is removed from the
-/// environment so that only the build's own plugin folder is searched.
+/// environment so that only the build's own plugin folder is searched. OMP_WAIT_POLICY=PASSIVE:
+/// on a busy machine (ctest -j, a small CI runner) spinning OpenMP barriers make a run several
+/// times slower (52 s instead of 17 s for the 300-step run below); results do not depend on it.
 Result run_shell(const std::string& command, const fs::path& cwd, const fs::path& capture_dir) {
   static int counter = 0;
   const fs::path out = capture_dir / ("stdout_" + std::to_string(counter) + ".txt");
   const fs::path err = capture_dir / ("stderr_" + std::to_string(counter) + ".txt");
   ++counter;
-  const std::string line = "cd " + shell_quote(cwd.string()) + " && env -u SPHFORGE_PLUGIN_PATH " + command + " >" +
+  const std::string line = "cd " + shell_quote(cwd.string()) + " && env -u SPHFORGE_PLUGIN_PATH OMP_WAIT_POLICY=PASSIVE " + command + " >" +
                            shell_quote(out.string()) + " 2>" + shell_quote(err.string());
   const int status = std::system(line.c_str());
   Result r;
@@ -268,9 +267,8 @@ void write_case(const fs::path& file, const std::function<void(json&)>& edit) {
 
 TEST_F(Cli, QuickCaseRunWritesTheOutputContract) {
   const fs::path out = root() / "out";
-  const Result r = run(concat({"run", kQuickCase, "--set", "run.max_steps=300", "--set", "run.output_interval=0.005",
-                               "--quiet", "--out", out.string()},
-                              kSmallerBillet));
+  const Result r = run({"run", kQuickCase, "--set", "run.max_steps=300", "--set", "run.output_interval=0.005",
+                        "--quiet", "--out", out.string()});
   ASSERT_EQ(r.code, 0) << describe(r);
   EXPECT_EQ(r.out, "") << "--quiet must print nothing";
   EXPECT_EQ(r.err, "") << "--quiet must print nothing";
@@ -285,9 +283,9 @@ TEST_F(Cli, QuickCaseRunWritesTheOutputContract) {
   EXPECT_EQ(summary.value("case", ""), "paste_orifice_quick");
   EXPECT_EQ(summary.value("status", ""), "max_steps");
   EXPECT_EQ(summary.value("steps", -1), 300);
-  // 8 layers of 820 lattice columns (0.75 mm spacing inside r <= 12.125 mm).
+  // 13 layers (10 mm / 0.75 mm) of 820 lattice columns (0.75 mm spacing inside r <= 12.125 mm).
   const long long particles = summary.value("particles", -1LL);
-  EXPECT_EQ(particles, 8 * 820);
+  EXPECT_EQ(particles, 13 * 820);
   const double sim_time = summary.value("simulated_time_s", -1.0);
   const double wall = summary.value("wall_time_s", -1.0);
   EXPECT_GT(sim_time, 0.0);
@@ -366,7 +364,7 @@ TEST_F(Cli, QuickCaseRunWritesTheOutputContract) {
   EXPECT_EQ(tools_at.size(), frames.size());
   for (const auto& [time, names] : tools_at)
     EXPECT_EQ(names, (std::set<std::string>{"barrel.vtp", "die.vtp", "ram.vtp"})) << "t = " << time;
-  EXPECT_NEAR(ram_z_first, 6e-3, 1e-12);  // the ram starts on the billet top
+  EXPECT_NEAR(ram_z_first, 9.75e-3, 1e-12);  // the ram starts on the billet top (13 layers of 0.75 mm)
   EXPECT_NEAR(ram_z_first - ram_z_last, summary["metrics"].value("final_ram_displacement_m", -1.0), 1e-12);
   EXPECT_NEAR(ram_z_first - ram_z_last, 1e-3 * sim_time, 1e-9);  // 1 mm/s
 
@@ -522,10 +520,18 @@ TEST_F(CliInput, BadSetSyntax) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-TEST_F(CliInput, SetOfAMissingSection) {
+TEST_F(CliInput, SetOfAnUnknownSection) {
+  // --set creates missing objects on its way; validation then rejects a section that does not exist.
   const fs::path out = root() / "out";
   const Result r = run({"run", kQuickCase, "--set", "nosuch.section.value=1", "--out", out.string()});
-  expect_input_error(r, kQuickCase, "--set nosuch.section.value", {"no object at /nosuch"});
+  expect_input_error(r, kQuickCase, "/nosuch", {"unknown key 'nosuch'", "numerics"});
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(CliInput, SetIntoAValue) {
+  const fs::path out = root() / "out";
+  const Result r = run({"run", kQuickCase, "--set", "run.end_time.x=1", "--out", out.string()});
+  expect_input_error(r, kQuickCase, "--set run.end_time.x", {"no object at /run/end_time"});
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -543,11 +549,13 @@ TEST_F(CliInput, UnknownOptionAndCommand) {
 // --- a numerical blow-up: exit 3 ------------------------------------------------------------
 
 TEST_F(Cli, InstabilityExitsWithThreeAndLocatesIt) {
-  // cfl = 2 with a soft contact spring (whose time-step limit then no longer caps dt) is far
-  // beyond the leapfrog's stability limit: the run explodes within a few dozen steps.
+  // cfl = 2 with a soft contact spring (whose time-step limit then no longer caps dt) and no
+  // artificial viscosity is far beyond the leapfrog's stability limit: the run explodes within
+  // a few dozen steps (step 55 when this test was written), long before max_steps.
   const fs::path out = root() / "out";
   const Result r = run(concat({"run", kQuickCase, "--set", "numerics.cfl=2", "--set", "contact.stiffness_factor=0.001",
-                               "--set", "run.max_steps=5000", "--quiet", "--out", out.string()},
+                               "--set", R"(numerics.artificial_viscosity={"alpha":0,"beta":0})", "--set",
+                               "run.max_steps=300", "--quiet", "--out", out.string()},
                               kTinyCase));
   ASSERT_EQ(r.code, 3) << describe(r);
   const auto lines = lines_of(r.err);
@@ -562,7 +570,7 @@ TEST_F(Cli, InstabilityExitsWithThreeAndLocatesIt) {
   const long long particle = std::stoll(m[3]);
   const std::string field = m[4];
   EXPECT_GT(step, 0);
-  EXPECT_LT(step, 5000);
+  EXPECT_LT(step, 300);
   EXPECT_GT(time, 0.0);
   EXPECT_GE(particle, 0);
   EXPECT_LT(particle, 1792);

@@ -310,7 +310,12 @@ TEST(PluginLoader, DefaultSearchPathHonoursEnvironmentAndFindsRealPlugins) {
   for (const LoadedPlugin* p : loader.discover(&problems)) names.insert(p->descriptor->name);
   for (const char* n : {"test_good", "elastoplastic", "coulomb", "prescribed", "ram_extrusion"})
     EXPECT_EQ(names.count(n), 1u) << n;
-  EXPECT_EQ(problems.size(), 2u);  // the two bad test plugins, nothing from the real plugin folder
+  // The two bad test plugins are reported, nothing from the real plugin folder.
+  const std::string test_dir = fs::weakly_canonical(kTestDir).string() + "/";
+  const std::string build_dir = fs::weakly_canonical(kPluginBuildDir).string() + "/";
+  EXPECT_EQ(std::count_if(problems.begin(), problems.end(), [&](const std::string& p) { return contains(p, test_dir); }),
+            2);
+  for (const auto& p : problems) EXPECT_FALSE(contains(p, build_dir)) << p;
 }
 
 TEST(PluginLoader, EnvironmentWithoutTestFolderDoesNotFindTestPlugins) {

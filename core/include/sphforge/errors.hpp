@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -39,9 +40,14 @@ class InstabilityError : public std::runtime_error {
   InstabilityError(std::int64_t step, double time_s, std::int64_t particle_id,
                    std::string field, const std::string& diagnosis)
       : std::runtime_error("numerical instability at step " + std::to_string(step) +
-                           ", t = " + std::to_string(time_s) + " s, particle " +
+                           ", t = " + format_time(time_s) + " s, particle " +
                            std::to_string(particle_id) + ", field '" + field + "': " + diagnosis),
         step_(step), time_s_(time_s), particle_id_(particle_id), field_(std::move(field)) {}
+  static std::string format_time(double t) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.9g", t);
+    return buffer;
+  }
   std::int64_t step() const { return step_; }
   double time_s() const { return time_s_; }
   std::int64_t particle_id() const { return particle_id_; }

@@ -86,6 +86,7 @@ inline constexpr const char* density_rate = "density_rate";      // kg/m^3/s
 inline constexpr const char* pressure = "pressure";              // Pa
 inline constexpr const char* deviatoric_stress = "deviatoric_stress";    // Pa, 6 comps
 inline constexpr const char* velocity_gradient = "velocity_gradient";    // 1/s, 9 comps L_ab = dv_a/dx_b
+inline constexpr const char* gradient_condition = "gradient_condition";  // 1, cond(M), -1 where uncorrected
 inline constexpr const char* contact_force = "contact_force";    // N
 inline constexpr const char* temperature = "temperature";        // K
 inline constexpr const char* plastic_strain = "plastic_strain";  // 1

@@ -44,6 +44,8 @@ class RigidTool {
   // Reactions accumulated by the contact pass during the last step (force ON the tool).
   Eigen::Vector3d reaction_force_N = Eigen::Vector3d::Zero();
   double reaction_torque_Nm = 0.0;   ///< about +z
+  double power_W = 0.0;              ///< power the tool delivered to the workpiece in the last step
+  double work_J = 0.0;               ///< accumulated work delivered to the workpiece
 
   /// Advances the pose by dt with the current velocities.
   void advance(double dt) {

@@ -38,6 +38,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
     RigidTool& tool = tools[t];
     tool.reaction_force_N.setZero();
     tool.reaction_torque_Nm = 0.0;
+    tool.power_W = 0.0;
     Eigen::Vector3d lo, hi;
     tool.bounds(lo, hi);
     lo.array() -= contact_radius;
@@ -113,7 +114,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
     }
 
     Eigen::Vector3d reaction = Eigen::Vector3d::Zero();
-    double torque = 0.0;
+    double torque = 0.0, power = 0.0;
     for (std::size_t c = 0; c < nc; ++c) {
       const std::size_t i = particle_[c];
       Eigen::Vector3d f;
@@ -122,10 +123,12 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
       // Newton's third law: the tool receives -f; torque about the z axis (x f_y - y f_x).
       reaction -= f;
       torque -= x[3 * i] * f.y() - x[3 * i + 1] * f.x();
+      power += f.dot(tool.surface_velocity(Eigen::Vector3d(x[3 * i], x[3 * i + 1], x[3 * i + 2])));
       stuck += batch_stick_[c] > 0.5 ? 1 : 0;
     }
     tool.reaction_force_N = reaction;
     tool.reaction_torque_Nm = torque;
+    tool.power_W = power;
     total += nc;
   }
   sticking_fraction_ = total ? static_cast<double>(stuck) / static_cast<double>(total) : 0.0;

@@ -55,7 +55,9 @@ void NeighbourList::build(const double* x, std::size_t n, double radius) {
   // to keep the cell array small: a cell edge larger than the radius stays correct.
   std::int64_t dims[3];
   double edge[3];
-  constexpr std::int64_t kMaxCells = std::int64_t(1) << 26;
+  // Never more cells than a few per particle: a cloud blown apart would otherwise fill a huge,
+  // nearly empty grid at every rebuild.
+  const std::int64_t kMaxCells = std::clamp<std::int64_t>(8 * static_cast<std::int64_t>(n), 4096, std::int64_t(1) << 26);
   double scale = 1.0;
   for (;;) {
     std::int64_t total = 1;

@@ -48,6 +48,8 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::number("h_over_dx", "1", 1.3, "smoothing length over particle spacing", 0.8, 3.0),
       ParamSpec::number("cfl", "1", 0.3, "Courant number of the time step dt = cfl h / (c + |v|max)", 1e-3, 2.0),
       ParamSpec::object("artificial_viscosity", "Monaghan artificial viscosity coefficients"),
+      ParamSpec::boolean("gradient_correction", true,
+                         "first-order (Randles-Libersky) correction of the velocity gradient (theory eq. 3b)"),
       ParamSpec::object("artificial_stress", "Gray-Monaghan-Swift artificial stress against tensile instability"),
       ParamSpec::number("neighbour_skin", "1", 0.2,
                         "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
@@ -109,6 +111,12 @@ std::pair<const PluginDescriptor*, ParamValues> load_plugin(PluginLoader& loader
   (void)key;
   ParamValues values = validate_parameters(section, plugin.descriptor->parameters, file, pointer, {"plugin"});
   return {plugin.descriptor, std::move(values)};
+}
+
+std::string format_g(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  return buffer;
 }
 
 bool finite3(const double* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
@@ -195,6 +203,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.h_over_dx = numerics.number("h_over_dx");
   settings_.cfl = numerics.number("cfl");
   settings_.neighbour_skin = numerics.number("neighbour_skin");
+  settings_.gradient_correction = numerics.boolean("gradient_correction");
   const ParamValues av = numerics.sub("artificial_viscosity", viscosity_specs());
   settings_.viscosity = {av.number("alpha"), av.number("beta"), av.number("eta")};
   const ParamValues as = numerics.sub("artificial_stress", artificial_stress_specs());
@@ -287,6 +296,10 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       {"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}},
   };
   for (const FieldInfo& f : material_->fields()) passes_[5].writes.push_back(f);
+  if (settings_.gradient_correction)
+    passes_[2].writes.push_back(FieldInfo{field::gradient_condition, 1, "1"});
+  if (settings_.artificial_stress.epsilon > 0.0)
+    passes_.insert(passes_.begin() + 6, PassInfo{"artificial_stress", {pressure, stress, density}, {}});
   std::vector<FieldInfo> process_fields = process_->fields();
   if (!process_fields.empty()) passes_.push_back({"process:" + doc.root["process"]["plugin"].get<std::string>(), {}, process_fields});
   for (const PassInfo& pass : passes_) {
@@ -386,8 +399,8 @@ void Simulation::check_stability() const {
       if (s > vmax) { vmax = s; fastest = i; }
     }
     throw InstabilityError(step_, time_, ids[fastest], field::velocity,
-                           "time step collapsed to " + std::to_string(dt_) + " s (< 1e-3 of the initial " +
-                               std::to_string(dt_initial_) + " s); speed " + std::to_string(vmax) + " m/s");
+                           "time step collapsed to " + format_g(dt_) + " s (< 1e-3 of the initial " +
+                               format_g(dt_initial_) + " s); speed " + format_g(vmax) + " m/s");
   }
 }
 
@@ -418,7 +431,8 @@ void Simulation::step() {
   double* sigma_over_rho2 = scratch_.data();
   double* artificial = with_artificial_stress ? scratch_.data() + 6 * n : nullptr;
   particle_volume(m, rho, scratch_.data(), n);
-  velocity_gradient(neighbours_, settings_.kernel, h_, x, v, scratch_.data(), L, n);
+  velocity_gradient(neighbours_, settings_.kernel, h_, x, v, scratch_.data(), settings_.gradient_correction, L,
+                    fields_.f64_if(field::gradient_condition), n);
   continuity_density_rate(L, rho, drho, n);
   jaumann_rotation(L, dt_, S, n);
   for (const BodyRange& b : bodies_) {
@@ -453,7 +467,10 @@ void Simulation::step() {
     }
     rho[i] += dt_ * drho[i];
   }
-  for (auto& tool : tools_) tool.advance(dt_);
+  for (auto& tool : tools_) {
+    tool.work_J += tool.power_W * dt_;
+    tool.advance(dt_);
+  }
   time_ += dt_;
   ++step_;
   ctx.time_s = time_;
@@ -472,8 +489,9 @@ double Simulation::kinetic_energy() const {
 }
 
 std::vector<std::string> Simulation::history_header() const {
-  std::vector<std::string> h = {"time_s", "step_1", "dt_s", "dt_cfl_s", "dt_contact_s", "neighbour_builds_1", "kinetic_energy_J",
-                                "contacts_1", "sticking_fraction_1"};
+  std::vector<std::string> h = {"time_s", "step_1", "dt_s", "dt_cfl_s", "dt_contact_s", "neighbour_builds_1",
+                                "kinetic_energy_J", "tool_work_J", "kinetic_to_work_ratio_1", "contacts_1",
+                                "sticking_fraction_1"};
   for (const auto& t : tools_) {
     h.push_back(t.name() + "_force_x_N");
     h.push_back(t.name() + "_force_y_N");
@@ -486,8 +504,13 @@ std::vector<std::string> Simulation::history_header() const {
 }
 
 std::vector<double> Simulation::history_row() const {
+  // Kinetic energy against the work the tools put in: the check that mass/time scaling keeps
+  // the process quasi-static (the papers' rule of thumb: below about 0.1).
+  double work = 0.0;
+  for (const auto& t : tools_) work += t.work_J;
+  const double ke = kinetic_energy();
   std::vector<double> r = {time_, static_cast<double>(step_), dt_, dt_cfl_, dt_contact_,
-                           static_cast<double>(neighbours_.builds()), kinetic_energy(),
+                           static_cast<double>(neighbours_.builds()), ke, work, work > 0.0 ? ke / work : 0.0,
                            static_cast<double>(contacts_), contact_.sticking_fraction()};
   for (const auto& t : tools_) {
     r.push_back(t.reaction_force_N.x());
@@ -510,16 +533,22 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   Progress progress(progress_mode, settings_.end_time_s);
 
   int frame = 0;
+  double last_frame_time = -1.0, last_history_time = -1.0;
   auto write_frame = [&] {
     particle_writer.write(frame, time_, fields_, count_);
     tool_writer.write(frame, time_, tools_);
+    last_frame_time = time_;
     ++frame;
+  };
+  auto write_history = [&] {
+    history.append(history_row());
+    last_history_time = time_;
   };
   // Measure once so that the first history row is meaningful.
   ProcessContext ctx0{time_, 0.0, step_, &fields_, &tools_, &bodies_};
   process_->measure(ctx0);
   write_frame();
-  history.append(history_row());
+  write_history();
   double next_output = settings_.output_interval_s, next_history = settings_.history_interval_s;
 
   RunResult result;
@@ -532,7 +561,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
       if (process_->finished(ctx)) { status = "process_finished"; break; }
       step();
       if (time_ >= next_history) {
-        history.append(history_row());
+        write_history();
         while (next_history <= time_) next_history += settings_.history_interval_s;
       }
       if (time_ >= next_output) {
@@ -553,8 +582,9 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   }
   progress.finish();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  if (result.exit_code == 0 && frame > 0) write_frame();
-  history.append(history_row());
+  // The final state, unless the last step has just written it.
+  if (result.exit_code == 0 && time_ > last_frame_time) write_frame();
+  if (time_ > last_history_time) write_history();
   history.flush();
 
   json summary;

@@ -23,6 +23,7 @@ struct CoreSettings {
   double h_over_dx = 1.3;
   double cfl = 0.3;
   double neighbour_skin = 0.2;  ///< Verlet skin, fraction of h
+  bool gradient_correction = true;
   ArtificialViscosity viscosity;
   ArtificialStress artificial_stress;
   ContactSettings contact;

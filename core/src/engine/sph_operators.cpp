@@ -10,12 +10,13 @@ namespace {
 // Symmetric 6-component storage (xx yy zz xy yz xz) <-> 3x3 index.
 constexpr int kSym[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
 
-template <KernelKind K>
+template <KernelKind K, bool Corrected>
 void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, const double* v,
-                            const double* volume, double* L, std::size_t n) {
+                            const double* volume, double* L, std::size_t n, double* condition) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     double l[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    double mom[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // M_i = -sum_j V_j x_ij (x) grad_i W_ij (eq. 3a)
     const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
     const double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
     for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
@@ -26,6 +27,32 @@ void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, 
       const double dv[3] = {(v[3 * j] - vi[0]) * f, (v[3 * j + 1] - vi[1]) * f, (v[3 * j + 2] - vi[2]) * f};
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) l[3 * a + b] += dv[a] * xij[b];
+      if constexpr (Corrected) {
+        const double fx[3] = {-f * xij[0], -f * xij[1], -f * xij[2]};
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) mom[3 * a + b] += fx[a] * xij[b];
+      }
+    }
+    if constexpr (Corrected) {
+      // Corrected gradient L = G M^-1 (eq. 3b), exact for linear fields also where the
+      // neighbourhood is truncated (walls, free surfaces). M is dimensionless (I on a full,
+      // regular neighbourhood), so its conditioning can be judged without units: where
+      // det M < 0.05 or the inverse is large, too few neighbours span some direction and the
+      // uncorrected gradient (M = I) is used instead.
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> G(l), M(mom);
+      const double det = M.determinant();
+      double cond = 0.0;
+      if (det > 0.05) {
+        const Eigen::Matrix3d Minv = M.inverse();
+        cond = M.norm() * Minv.norm();
+        if (cond < 50.0) {
+          const Eigen::Matrix3d corrected = G * Minv;
+          Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(L + 9 * i) = corrected;
+          if (condition) condition[i] = cond;
+          continue;
+        }
+      }
+      if (condition) condition[i] = -1.0;  // fallback used
     }
     for (int c = 0; c < 9; ++c) L[9 * i + c] = l[c];
   }
@@ -81,11 +108,14 @@ void momentum_rate_impl(const NeighbourList& nl, double h, const ArtificialVisco
 }  // namespace
 
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
-                       const double* volume, double* L, std::size_t n) {
-  if (kernel == KernelKind::WendlandC2)
-    velocity_gradient_impl<KernelKind::WendlandC2>(nl, h, x, v, volume, L, n);
-  else
-    velocity_gradient_impl<KernelKind::CubicSpline>(nl, h, x, v, volume, L, n);
+                       const double* volume, bool corrected, double* L, double* condition, std::size_t n) {
+  if (kernel == KernelKind::WendlandC2) {
+    if (corrected) velocity_gradient_impl<KernelKind::WendlandC2, true>(nl, h, x, v, volume, L, n, condition);
+    else velocity_gradient_impl<KernelKind::WendlandC2, false>(nl, h, x, v, volume, L, n, condition);
+  } else {
+    if (corrected) velocity_gradient_impl<KernelKind::CubicSpline, true>(nl, h, x, v, volume, L, n, condition);
+    else velocity_gradient_impl<KernelKind::CubicSpline, false>(nl, h, x, v, volume, L, n, condition);
+  }
 }
 
 void particle_volume(const double* mass, const double* density, double* volume, std::size_t n) {

@@ -18,10 +18,12 @@ struct ArtificialViscosity {
 /// Particle volume V_i = m_i / rho_i.
 void particle_volume(const double* mass, const double* density, double* volume, std::size_t n);
 
-/// Velocity gradient L_i = sum_j V_j (v_j - v_i) (x) grad_i W_ij   (theory eq. 3)
-/// L stored row-major, 9 per particle, L_ab = dv_a/dx_b.
+/// Velocity gradient L_i = sum_j V_j (v_j - v_i) (x) grad_i W_ij   (theory eq. 3), optionally with the
+/// first-order (Randles-Libersky) correction L_i <- L_i M_i^-1 (eqs. 3a-3b). L stored row-major,
+/// 9 per particle, L_ab = dv_a/dx_b. `condition` (may be null) receives the condition number of
+/// M_i, or -1 where the correction fell back to the plain gradient.
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
-                       const double* volume, double* L, std::size_t n);
+                       const double* volume, bool corrected, double* L, double* condition, std::size_t n);
 
 /// sigma_i / rho_i^2 with sigma = S - p I (6 per particle), the per-particle half of eq. 7,
 /// computed once per step instead of once per pair.
