@@ -122,7 +122,8 @@ int list_plugins(bool as_json) {
         for (const auto& spec : p->descriptor->parameters) {
           const json d = spec.describe();
           std::cout << "    " << spec.name;
-          if (d.contains("unit") && d["unit"] != "1") std::cout << " [" << d["unit"].get<std::string>() << "]";
+          if (d.contains("unit") && d["unit"].is_string() && d["unit"] != "1")
+            std::cout << " [" << d["unit"].get<std::string>() << "]";
           if (d.contains("default")) std::cout << " = " << d["default"].dump();
           else std::cout << " (required)";
           if (d.contains("min") || d.contains("max"))

@@ -119,6 +119,9 @@ std::string format_g(double value) {
   return buffer;
 }
 
+// Index of kinetic_to_work_ratio_1 in history_header().
+constexpr std::size_t kRatioColumn = 8;
+
 bool finite3(const double* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
 // --- progress -------------------------------------------------------------------------------------
@@ -492,6 +495,7 @@ std::vector<std::string> Simulation::history_header() const {
   std::vector<std::string> h = {"time_s", "step_1", "dt_s", "dt_cfl_s", "dt_contact_s", "neighbour_builds_1",
                                 "kinetic_energy_J", "tool_work_J", "kinetic_to_work_ratio_1", "contacts_1",
                                 "sticking_fraction_1"};
+  static_assert(kRatioColumn == 8);
   for (const auto& t : tools_) {
     h.push_back(t.name() + "_force_x_N");
     h.push_back(t.name() + "_force_y_N");
@@ -540,9 +544,14 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     last_frame_time = time_;
     ++frame;
   };
+  double max_kinetic_to_work = 0.0;
   auto write_history = [&] {
-    history.append(history_row());
+    const std::vector<double> row = history_row();
+    history.append(row);
     last_history_time = time_;
+    // Largest kinetic/work ratio once the process is under way (after the first 10 % of the run,
+    // when both energies are still tiny and their ratio meaningless).
+    if (time_ >= 0.1 * settings_.end_time_s) max_kinetic_to_work = std::max(max_kinetic_to_work, row[kRatioColumn]);
   };
   // Measure once so that the first history row is meaningful.
   ProcessContext ctx0{time_, 0.0, step_, &fields_, &tools_, &bodies_};
@@ -600,6 +609,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   summary["threads"] = omp_get_max_threads();
   summary["backend"] = backend_description();
   summary["frames"] = frame;
+  summary["kinetic_to_work_ratio_max"] = max_kinetic_to_work;
   summary["metrics"] = process_->metrics();
   json versions;
   versions["core"] = kCoreVersion;

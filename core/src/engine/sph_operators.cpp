@@ -7,6 +7,12 @@
 namespace sphforge {
 
 namespace {
+inline double power(double base, int n) {
+  double r = base;
+  for (int k = 1; k < n; ++k) r *= base;
+  return r;
+}
+
 // Symmetric 6-component storage (xx yy zz xy yz xz) <-> 3x3 index.
 constexpr int kSym[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
 
@@ -65,6 +71,9 @@ void momentum_rate_impl(const NeighbourList& nl, double h, const ArtificialVisco
                         std::size_t n) {
   const double eta2h2 = av.eta * av.eta * h * h;
   const double inv_w_dx = WithArtificialStress ? 1.0 / as.w_dx : 0.0;
+  // The usual exponents (n = 4) are integers: multiply instead of calling pow() per pair.
+  const int integer_exponent =
+      (as.exponent == std::floor(as.exponent) && as.exponent >= 1.0 && as.exponent <= 12.0) ? int(as.exponent) : 0;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
@@ -82,9 +91,20 @@ void momentum_rate_impl(const NeighbourList& nl, double h, const ArtificialVisco
       double t[6];
       for (int c = 0; c < 6; ++c) t[c] = ti[c] + tj[c];
       if constexpr (WithArtificialStress) {
-        // f_ij^n (R_i + R_j), f_ij = W(r_ij)/W(dx)  (eq. 9)
-        const double f = std::pow(kernel_value(K, std::sqrt(r2), h) * inv_w_dx, as.exponent);
-        for (int c = 0; c < 6; ++c) t[c] += f * (R[6 * i + c] + R[6 * j + c]);
+        // f_ij^n (R_i + R_j), f_ij = W(r_ij)/W(dx)  (eq. 9); R is zero for particles under no
+        // principal tension, so most pairs of a compressed body skip the kernel evaluation.
+        double rsum[6];
+        bool any = false;
+        for (int c = 0; c < 6; ++c) {
+          rsum[c] = R[6 * i + c] + R[6 * j + c];
+          any = any || rsum[c] != 0.0;
+        }
+        if (any) {
+          const double f = integer_exponent > 0
+                               ? power(kernel_value(K, std::sqrt(r2), h) * inv_w_dx, integer_exponent)
+                               : std::pow(kernel_value(K, std::sqrt(r2), h) * inv_w_dx, as.exponent);
+          for (int c = 0; c < 6; ++c) t[c] += f * rsum[c];
+        }
       }
       // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
       const double vij_xij = (vi[0] - v[3 * j]) * xij[0] + (vi[1] - v[3 * j + 1]) * xij[1] +
