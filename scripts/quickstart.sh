@@ -21,7 +21,7 @@ cat <<MSG
 
 sphforge: done. Output in ${root}/${out}
   summary.json   case, status, particle/step counts, wall time, process metrics
-  history.csv    one row per output interval (forces, probes, energies; units in the column names)
+  history.csv    one row per history interval (forces, probes, energies; units in the column names)
   particles.pvd  particle fields over time      tools.pvd  rigid tool surfaces over time
 
 Open it in ParaView:
