@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include <boost/dll/alias.hpp>
 
@@ -43,6 +44,34 @@ struct PluginDescriptor {
 namespace detail {
 inline int plugin_abi_version() { return kPluginAbiVersion; }
 }  // namespace detail
+
+/// Builds the descriptor of a plugin whose implementation `Impl` derives from one of the four
+/// interfaces and is constructible from its validated ParamValues; sets the kind and the factory.
+///   static const PluginDescriptor d = make_plugin_descriptor<Elastoplastic>("elastoplastic", "0.1.0", "doc", {...});
+template <class Impl>
+PluginDescriptor make_plugin_descriptor(std::string name, std::string version, std::string doc,
+                                        ParamSpecs parameters) {
+  PluginDescriptor p;
+  p.name = std::move(name);
+  p.version = std::move(version);
+  p.doc = std::move(doc);
+  p.parameters = std::move(parameters);
+  if constexpr (std::is_base_of_v<Material, Impl>) {
+    p.kind = PluginKind::Material;
+    p.make_material = [](const ParamValues& v) { return std::make_unique<Impl>(v); };
+  } else if constexpr (std::is_base_of_v<ContactLaw, Impl>) {
+    p.kind = PluginKind::Contact;
+    p.make_contact = [](const ParamValues& v) { return std::make_unique<Impl>(v); };
+  } else if constexpr (std::is_base_of_v<Process, Impl>) {
+    p.kind = PluginKind::Process;
+    p.make_process = [](const ParamValues& v) { return std::make_unique<Impl>(v); };
+  } else {
+    static_assert(std::is_base_of_v<Controller, Impl>, "Impl must derive from a sphforge plugin interface");
+    p.kind = PluginKind::Controller;
+    p.make_controller = [](const ParamValues& v) { return std::make_unique<Impl>(v); };
+  }
+  return p;
+}
 
 }  // namespace sphforge
 

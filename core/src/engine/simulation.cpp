@@ -98,8 +98,8 @@ const ParamSpecs& run_specs() {
 
 /// Loads the plugin named in section["plugin"] and validates the rest of the section against it.
 std::pair<const PluginDescriptor*, ParamValues> load_plugin(PluginLoader& loader, PluginKind kind,
-                                                            const ParamValues& parent, const std::string& key,
-                                                            const json& section, const std::string& pointer) {
+                                                            const ParamValues& parent, const json& section,
+                                                            const std::string& pointer) {
   const std::string& file = parent.file();
   if (!section.is_object()) throw InputError(file, pointer, "expected an object with a \"plugin\" name");
   if (!section.contains("plugin"))
@@ -108,7 +108,6 @@ std::pair<const PluginDescriptor*, ParamValues> load_plugin(PluginLoader& loader
   if (!section["plugin"].is_string())
     throw InputError(file, pointer + "/plugin", "expected a plugin name (string)");
   const LoadedPlugin& plugin = loader.load(kind, section["plugin"].get<std::string>(), file, pointer + "/plugin");
-  (void)key;
   ParamValues values = validate_parameters(section, plugin.descriptor->parameters, file, pointer, {"plugin"});
   return {plugin.descriptor, std::move(values)};
 }
@@ -225,11 +224,11 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
 
   // Plugins: material, process, contact laws, controllers.
   {
-    auto [desc, values] = load_plugin(loader, PluginKind::Material, root, "material", doc.root["material"], "/material");
+    auto [desc, values] = load_plugin(loader, PluginKind::Material, root, doc.root["material"], "/material");
     material_ = desc->make_material(values);
   }
   {
-    auto [desc, values] = load_plugin(loader, PluginKind::Process, root, "process", doc.root["process"], "/process");
+    auto [desc, values] = load_plugin(loader, PluginKind::Process, root, doc.root["process"], "/process");
     process_ = desc->make_process(values);
   }
 
@@ -247,7 +246,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.contact.stiffness_factor = contact.number("stiffness_factor");
   settings_.contact.damping_ratio = contact.number("damping_ratio");
   {
-    auto [desc, values] = load_plugin(loader, PluginKind::Contact, contact, "law", doc.root["contact"]["law"],
+    auto [desc, values] = load_plugin(loader, PluginKind::Contact, contact, doc.root["contact"]["law"],
                                       "/contact/law");
     contact_laws_.push_back(desc->make_contact(values));
   }
@@ -261,7 +260,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
         for (const auto& t : tools_) names += (names.empty() ? "" : ", ") + t.name();
         throw InputError(file, pointer, "no tool named '" + tool_name + "'; this process has: " + names);
       }
-      auto [desc, values] = load_plugin(loader, PluginKind::Contact, contact, tool_name, section, pointer);
+      auto [desc, values] = load_plugin(loader, PluginKind::Contact, contact, section, pointer);
       contact_laws_.push_back(desc->make_contact(values));
       tool_laws[static_cast<std::size_t>(it - tools_.begin())] = contact_laws_.back().get();
     }
@@ -274,7 +273,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     const json& list = doc.root["controllers"];
     for (std::size_t k = 0; k < list.size(); ++k) {
       const std::string pointer = "/controllers/" + std::to_string(k);
-      auto [desc, values] = load_plugin(loader, PluginKind::Controller, root, "controllers", list[k], pointer);
+      auto [desc, values] = load_plugin(loader, PluginKind::Controller, root, list[k], pointer);
       controllers_.push_back(desc->make_controller(values));
       controllers_.back()->bind(signals_);
     }

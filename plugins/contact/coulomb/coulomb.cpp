@@ -38,16 +38,10 @@ class Coulomb final : public ContactLaw {
 };
 
 const PluginDescriptor& descriptor() {
-  static const PluginDescriptor d = [] {
-    PluginDescriptor p;
-    p.kind = PluginKind::Contact;
-    p.name = "coulomb";
-    p.version = "0.1.0";
-    p.doc = "Coulomb friction, tangential force limited by mu times the normal force, with sticking";
-    p.parameters = {ParamSpec::number("friction_coefficient", "1", std::nullopt, "Coulomb coefficient mu", 0.0, 10.0)};
-    p.make_contact = [](const ParamValues& v) { return std::make_unique<Coulomb>(v); };
-    return p;
-  }();
+  static const PluginDescriptor d = make_plugin_descriptor<Coulomb>(
+      "coulomb", "0.1.0",
+      "Coulomb friction, tangential force limited by mu times the normal force, with sticking",
+      {ParamSpec::number("friction_coefficient", "1", std::nullopt, "Coulomb coefficient mu", 0.0, 10.0)});
   return d;
 }
 

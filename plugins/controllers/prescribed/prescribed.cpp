@@ -34,19 +34,13 @@ class Prescribed final : public Controller {
 };
 
 const PluginDescriptor& descriptor() {
-  static const PluginDescriptor d = [] {
-    PluginDescriptor p;
-    p.kind = PluginKind::Controller;
-    p.name = "prescribed";
-    p.version = "0.1.0";
-    p.doc = "holds a commanded quantity (e.g. ram_velocity) at a constant value";
-    p.parameters = {
+  static const PluginDescriptor d = make_plugin_descriptor<Prescribed>(
+      "prescribed", "0.1.0",
+      "holds a commanded quantity (e.g. ram_velocity) at a constant value",
+      {
         ParamSpec::string("command", std::nullopt, "name of the commanded quantity (see the process)"),
         ParamSpec::quantity("value", "value in the command's unit, e.g. \"1 mm/s\" for ram_velocity"),
-    };
-    p.make_controller = [](const ParamValues& v) { return std::make_unique<Prescribed>(v); };
-    return p;
-  }();
+    });
   return d;
 }
 

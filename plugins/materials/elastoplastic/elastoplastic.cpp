@@ -73,22 +73,16 @@ class Elastoplastic final : public Material {
 };
 
 const PluginDescriptor& descriptor() {
-  static const PluginDescriptor d = [] {
-    PluginDescriptor p;
-    p.kind = PluginKind::Material;
-    p.name = "elastoplastic";
-    p.version = "0.1.0";
-    p.doc = "linear elasticity with von Mises plasticity, perfectly plastic or linear isotropic hardening";
-    p.parameters = {
+  static const PluginDescriptor d = make_plugin_descriptor<Elastoplastic>(
+      "elastoplastic", "0.1.0",
+      "linear elasticity with von Mises plasticity, perfectly plastic or linear isotropic hardening",
+      {
         ParamSpec::number("density", "kg/m^3", std::nullopt, "reference density rho0 (mass-scaled if wanted)", 1e-6),
         ParamSpec::number("youngs_modulus", "Pa", std::nullopt, "Young's modulus E", 1e-6),
         ParamSpec::number("poisson_ratio", "1", std::nullopt, "Poisson's ratio nu", -0.999, 0.4999),
         ParamSpec::number("yield_stress", "Pa", std::nullopt, "initial yield stress sigma_y0", 0.0),
         ParamSpec::number("hardening_modulus", "Pa", 0.0, "linear isotropic hardening modulus H (0: perfectly plastic)", 0.0),
-    };
-    p.make_material = [](const ParamValues& v) { return std::make_unique<Elastoplastic>(v); };
-    return p;
-  }();
+    });
   return d;
 }
 

@@ -147,13 +147,10 @@ class RamExtrusion final : public Process {
 };
 
 const PluginDescriptor& descriptor() {
-  static const PluginDescriptor d = [] {
-    PluginDescriptor p;
-    p.kind = PluginKind::Process;
-    p.name = "ram_extrusion";
-    p.version = "0.1.0";
-    p.doc = "billet in a barrel pushed by a ram through a square-entry die with a filleted corner and a land";
-    p.parameters = {
+  static const PluginDescriptor d = make_plugin_descriptor<RamExtrusion>(
+      "ram_extrusion", "0.1.0",
+      "billet in a barrel pushed by a ram through a square-entry die with a filleted corner and a land",
+      {
         ParamSpec::number("barrel_diameter", "m", 25e-3, "barrel inner diameter D0", 1e-6),
         ParamSpec::number("ram_diameter", "m", 24.93e-3, "ram diameter", 1e-6),
         ParamSpec::number("billet_height", "m", 40e-3, "initial billet height", 1e-6),
@@ -164,10 +161,7 @@ const PluginDescriptor& descriptor() {
         ParamSpec::number("stroke", "m", 1.0, "the run ends when the ram has moved this far", 0.0),
         ParamSpec::number("steady_window_start", "m", 0.0,
                           "ram displacement from which the steady extrusion pressure is averaged", 0.0),
-    };
-    p.make_process = [](const ParamValues& v) { return std::make_unique<RamExtrusion>(v); };
-    return p;
-  }();
+    });
   return d;
 }
 
