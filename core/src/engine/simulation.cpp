@@ -286,22 +286,22 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       pressure{field::pressure, 1, "Pa"}, stress{field::deviatoric_stress, 6, "Pa"},
       grad_v{field::velocity_gradient, 9, "1/s"}, contact_force{field::contact_force, 3, "N"},
       id{field::id, 1, "1", FieldType::Int64}, body{field::body, 1, "1", FieldType::Int64};
-  passes_ = {
-      {"particles", {}, {id, body, mass}},
-      {"neighbour_search", {position}, {}},
-      {"velocity_gradient", {position, velocity, mass, density}, {grad_v}},
-      {"continuity", {grad_v, density}, {density_rate}},
-      {"jaumann_rotation", {grad_v}, {stress}},
-      {"material:" + doc.root["material"]["plugin"].get<std::string>(), {grad_v, density}, {stress, pressure}},
-      {"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}},
-      {"contact", {position, velocity, mass}, {contact_force}},
-      {"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}},
-  };
-  for (const FieldInfo& f : material_->fields()) passes_[5].writes.push_back(f);
-  if (settings_.gradient_correction)
-    passes_[2].writes.push_back(FieldInfo{field::gradient_condition, 1, "1"});
+  // Optional passes and fields enter the list only when the case uses them.
+  std::vector<FieldInfo> gradient_writes = {grad_v};
+  if (settings_.gradient_correction) gradient_writes.push_back(FieldInfo{field::gradient_condition, 1, "1"});
+  std::vector<FieldInfo> material_writes = {stress, pressure};
+  for (const FieldInfo& f : material_->fields()) material_writes.push_back(f);
+  passes_ = {{"particles", {}, {id, body, mass}},
+             {"neighbour_search", {position}, {}},
+             {"velocity_gradient", {position, velocity, mass, density}, gradient_writes},
+             {"continuity", {grad_v, density}, {density_rate}},
+             {"jaumann_rotation", {grad_v}, {stress}},
+             {"material:" + doc.root["material"]["plugin"].get<std::string>(), {grad_v, density}, material_writes}};
   if (settings_.artificial_stress.epsilon > 0.0)
-    passes_.insert(passes_.begin() + 6, PassInfo{"artificial_stress", {pressure, stress, density}, {}});
+    passes_.push_back({"artificial_stress", {pressure, stress, density}, {}});
+  passes_.push_back({"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}});
+  passes_.push_back({"contact", {position, velocity, mass}, {contact_force}});
+  passes_.push_back({"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}});
   std::vector<FieldInfo> process_fields = process_->fields();
   if (!process_fields.empty()) passes_.push_back({"process:" + doc.root["process"]["plugin"].get<std::string>(), {}, process_fields});
   for (const PassInfo& pass : passes_) {
