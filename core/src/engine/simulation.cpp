@@ -339,6 +339,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   }
   for (const auto& b : bodies_) material_->initialize(fields_, b.first, b.count);
 
+  min_mass_ = *std::min_element(m, m + count_);  // masses never change: the contact limit is fixed
   const double c0 = material_->wave_speed();
   contact_.configure(settings_.contact, tool_laws, spacing_, rho0 * c0 * c0);
   if (need_yield_) yield_scratch_.resize(count_);
@@ -352,18 +353,15 @@ Simulation::~Simulation() = default;
 // --- time step ------------------------------------------------------------------------------------
 double Simulation::stable_time_step() {
   const double* v = fields_.f64(field::velocity);
-  const double* m = fields_.f64(field::mass);
-  double vmax2 = 0.0, mmin = std::numeric_limits<double>::infinity();
-#pragma omp parallel for reduction(max : vmax2) reduction(min : mmin) schedule(static)
-  for (std::size_t i = 0; i < count_; ++i) {
+  double vmax2 = 0.0;
+#pragma omp parallel for reduction(max : vmax2) schedule(static)
+  for (std::size_t i = 0; i < count_; ++i)
     vmax2 = std::max(vmax2, v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-    mmin = std::min(mmin, m[i]);
-  }
   // NaN in a velocity makes vmax2 NaN or is lost by max(); the stability check finds it.
   const double c = material_->wave_speed();
   dt_cfl_ = settings_.cfl * h_ / (c + std::sqrt(vmax2));  // eq. 13
   // Half the contact spring's stability limit: a safety margin for the damping's velocity lag.
-  dt_contact_ = 0.5 * contact_.stable_time_step(mmin);
+  dt_contact_ = 0.5 * contact_.stable_time_step(min_mass_);
   return std::min(dt_cfl_, dt_contact_);
 }
 
@@ -373,7 +371,6 @@ void Simulation::check_stability() const {
   const double* v = fields_.f64(field::velocity);
   const std::int64_t* ids = fields_.i64(field::id);
   std::size_t bad = count_;
-  std::string bad_field;
 #pragma omp parallel for reduction(min : bad) schedule(static)
   for (std::size_t i = 0; i < count_; ++i)
     if (!finite3(x + 3 * i) || !finite3(v + 3 * i)) bad = std::min(bad, i);
