@@ -555,8 +555,8 @@ TEST_F(CliInput, UnknownOptionAndCommand) {
 
 TEST_F(Cli, InstabilityExitsWithThreeAndLocatesIt) {
   // cfl = 2 with a soft contact spring (whose time-step limit then no longer caps dt) and no
-  // artificial viscosity is far beyond the leapfrog's stability limit: the run explodes within
-  // a few dozen steps (step 55 when this test was written), long before max_steps.
+  // artificial viscosity is far beyond the leapfrog's stability limit: the energy ledger stops the
+  // run within a few dozen steps (step 10 when last run), long before max_steps.
   const fs::path out = root() / "out";
   const Result r = run(concat({"run", kQuickCase, "--set", "numerics.cfl=2", "--set", "contact.stiffness_factor=0.001",
                                "--set", R"(numerics.artificial_viscosity={"alpha":0,"beta":0})", "--set",

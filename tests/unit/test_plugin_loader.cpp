@@ -242,9 +242,12 @@ TEST(PluginLoader, DiscoverFindsGoodAndReportsBad) {
   PluginLoader loader({kTestDir});
   std::vector<std::string> problems;
   const auto found = loader.discover(&problems);
-  ASSERT_EQ(found.size(), 1u);
-  EXPECT_EQ(found[0]->descriptor->name, "test_good");
-  EXPECT_EQ(found[0]->descriptor->kind, PluginKind::Contact);
+  // The two loadable test plugins (sorted by file name), and the two bad ones reported.
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_EQ(found[0]->descriptor->name, "test_free_block");
+  EXPECT_EQ(found[0]->descriptor->kind, PluginKind::Process);
+  EXPECT_EQ(found[1]->descriptor->name, "test_good");
+  EXPECT_EQ(found[1]->descriptor->kind, PluginKind::Contact);
   ASSERT_EQ(problems.size(), 2u);
   const bool abi_reported = std::any_of(problems.begin(), problems.end(), [](const std::string& p) {
     return contains(p, "sphforge_test_abi_mismatch.so") && contains(p, "ABI 999999");
@@ -257,8 +260,9 @@ TEST(PluginLoader, DiscoverFindsGoodAndReportsBad) {
 
   // Without a problems list, the bad files are skipped silently; discovering twice is stable.
   const auto again = loader.discover();
-  ASSERT_EQ(again.size(), 1u);
+  ASSERT_EQ(again.size(), 2u);
   EXPECT_EQ(again[0], found[0]);
+  EXPECT_EQ(again[1], found[1]);
 }
 
 TEST(PluginLoader, DiscoverIgnoresFilesThatAreNotPluginCandidates) {

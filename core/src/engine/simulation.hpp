@@ -90,7 +90,7 @@ class Simulation {
   std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, sigma/rho^2)
 
   std::size_t count_ = 0;
-  double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0;
+  double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
   double time_ = 0.0, dt_ = 0.0, dt_initial_ = 0.0, dt_cfl_ = 0.0, dt_contact_ = 0.0;
   long long step_ = 0;
   std::size_t contacts_ = 0;
