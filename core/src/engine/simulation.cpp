@@ -121,6 +121,20 @@ std::string format_g(double value) {
 // Index of kinetic_to_work_ratio_1 in history_header().
 constexpr std::size_t kRatioColumn = 8;
 
+/// Index and speed of the fastest particle (for instability diagnoses).
+std::pair<std::size_t, double> fastest_particle(const double* v, std::size_t n) {
+  std::size_t fastest = 0;
+  double vmax2 = -1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double s2 = v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2];
+    if (s2 > vmax2) {
+      vmax2 = s2;
+      fastest = i;
+    }
+  }
+  return {fastest, std::sqrt(std::max(vmax2, 0.0))};
+}
+
 bool finite3(const double* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
 
 // --- progress -------------------------------------------------------------------------------------
@@ -272,16 +286,14 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
 
   // Signals and controllers.
   process_->bind_signals(signals_);
-  if (root.has("controllers")) {
-    // The validated section: [] when the case has no controllers (reading a missing key of a
-    // const json would be undefined behaviour).
-    const json& list = root.raw("controllers");
-    for (std::size_t k = 0; k < list.size(); ++k) {
-      const std::string pointer = "/controllers/" + std::to_string(k);
-      auto [desc, values] = load_plugin(loader, PluginKind::Controller, root, list[k], pointer);
-      controllers_.push_back(desc->make_controller(values));
-      controllers_.back()->bind(signals_);
-    }
+  // The validated section: [] when the case has no controllers (reading a missing key of the
+  // const document instead would be undefined behaviour).
+  const json& controller_list = root.raw("controllers");
+  for (std::size_t k = 0; k < controller_list.size(); ++k) {
+    const std::string pointer = "/controllers/" + std::to_string(k);
+    auto [desc, values] = load_plugin(loader, PluginKind::Controller, root, controller_list[k], pointer);
+    controllers_.push_back(desc->make_controller(values));
+    controllers_.back()->bind(signals_);
   }
 
   // --- Pipeline: the passes this scene runs, and the fields they declare -------------------------
@@ -402,26 +414,16 @@ void Simulation::check_stability() const {
     const double ke = kinetic_energy();
     const double budget = initial_kinetic_energy_ + std::max(work, 0.0);
     if (ke > 2.0 * budget && ke > 0.0) {
-      std::size_t fastest = 0;
-      double vmax2 = -1.0;
-      for (std::size_t i = 0; i < count_; ++i) {
-        const double s2 = v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2];
-        if (s2 > vmax2) { vmax2 = s2; fastest = i; }
-      }
+      const auto [fastest, speed] = fastest_particle(v, count_);
       throw InstabilityError(step_, time_, ids[fastest], field::velocity,
                              "kinetic energy " + format_g(ke) + " J exceeds twice the energy put in (" +
                                  format_g(budget) + " J: initial kinetic energy plus tool work): energy is being "
-                                 "created numerically; fastest particle at " + format_g(std::sqrt(vmax2)) + " m/s");
+                                 "created numerically; fastest particle at " + format_g(speed) + " m/s");
     }
   }
   if (dt_ < 1e-3 * dt_initial_) {
-    // Find the fastest particle: it is what collapsed the step.
-    std::size_t fastest = 0;
-    double vmax = -1.0;
-    for (std::size_t i = 0; i < count_; ++i) {
-      const double s = std::sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-      if (s > vmax) { vmax = s; fastest = i; }
-    }
+    // The fastest particle is what collapsed the step.
+    const auto [fastest, vmax] = fastest_particle(v, count_);
     throw InstabilityError(step_, time_, ids[fastest], field::velocity,
                            "time step collapsed to " + format_g(dt_) + " s (< 1e-3 of the initial " +
                                format_g(dt_initial_) + " s); speed " + format_g(vmax) + " m/s");
