@@ -69,6 +69,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
     batch_fn_.resize(nc);
     batch_gap_.resize(nc);
     batch_vt_.resize(3 * nc);
+    batch_vwall_.resize(3 * nc);
     batch_area_.assign(nc, area);
     batch_yield_.resize(nc);
     batch_ft_.assign(3 * nc, 0.0);
@@ -78,7 +79,8 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
       const std::size_t i = particle_[c];
       const Eigen::Vector3d xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
       const Eigen::Vector3d nrm(normal_[3 * i], normal_[3 * i + 1], normal_[3 * i + 2]);
-      const Eigen::Vector3d v_rel = Eigen::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]) - tool.surface_velocity(xi);
+      const Eigen::Vector3d v_wall = tool.surface_velocity(xi);
+      const Eigen::Vector3d v_rel = Eigen::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]) - v_wall;
       const double vn = v_rel.dot(nrm);
       const double gap = contact_radius - distance_[i];
       // Damped penalty (eq. 11); a wall only pushes, never pulls.
@@ -93,6 +95,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
       for (int d = 0; d < 3; ++d) {
         batch_normal_[3 * c + d] = nrm[d];
         batch_vt_[3 * c + d] = vt[d];
+        batch_vwall_[3 * c + d] = v_wall[d];
       }
     }
 
@@ -123,7 +126,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
       // Newton's third law: the tool receives -f; torque about the z axis (x f_y - y f_x).
       reaction -= f;
       torque -= x[3 * i] * f.y() - x[3 * i + 1] * f.x();
-      power += f.dot(tool.surface_velocity(Eigen::Vector3d(x[3 * i], x[3 * i + 1], x[3 * i + 2])));
+      power += f.dot(Eigen::Vector3d(batch_vwall_[3 * c], batch_vwall_[3 * c + 1], batch_vwall_[3 * c + 2]));
       stuck += batch_stick_[c] > 0.5 ? 1 : 0;
     }
     tool.reaction_force_N = reaction;

@@ -45,7 +45,7 @@ class PenaltyContact {
   std::vector<double> distance_, normal_;
   std::vector<std::size_t> particle_;
   std::vector<double> batch_mass_, batch_normal_, batch_fn_, batch_gap_, batch_vt_, batch_area_, batch_yield_,
-      batch_ft_, batch_stick_;
+      batch_ft_, batch_stick_, batch_vwall_;
 };
 
 }  // namespace sphforge
