@@ -89,6 +89,9 @@ inline constexpr const char* velocity_gradient = "velocity_gradient";    // 1/s,
 inline constexpr const char* gradient_condition = "gradient_condition";  // 1, cond(M), -1 where uncorrected
 inline constexpr const char* contact_force = "contact_force";    // N
 inline constexpr const char* temperature = "temperature";        // K
+inline constexpr const char* temperature_rate = "temperature_rate";  // K/s
+inline constexpr const char* heat_source = "heat_source";        // W/kg, plastic (material) heat
+inline constexpr const char* convection_coefficient = "convection_coefficient";  // W/(m^2 K), free surfaces
 inline constexpr const char* plastic_strain = "plastic_strain";  // 1
 inline constexpr const char* von_mises_stress = "von_mises_stress";  // Pa
 }  // namespace field

@@ -25,6 +25,23 @@ struct MaterialBatch {
   double* pressure = nullptr;            ///< Pa, out
   FieldRegistry* fields = nullptr;       ///< optional fields the material declared
   std::size_t first = 0;                 ///< index of the body's first particle in `fields`
+  /// Thermal scenes only (null when isothermal): temperature (K), and the specific heat source
+  /// (W/kg) the material adds its plastic heat to.
+  const double* temperature = nullptr;
+  double* heat_source = nullptr;
+  /// numerics.time_scaling f: the simulated strain rates are f times the physical ones, so a
+  /// rate-dependent law evaluates its rate term at rate / f (docs/theory.md eq. 24).
+  double time_scaling = 1.0;
+};
+
+/// Thermal properties of one body's particles, evaluated by the material each step.
+struct ThermalBatch {
+  std::size_t count = 0;
+  const double* temperature = nullptr;  ///< K
+  double* conductivity = nullptr;       ///< W/(m K), out
+  double* specific_heat = nullptr;      ///< J/(kg K), out
+  FieldRegistry* fields = nullptr;
+  std::size_t first = 0;
 };
 
 class Material {
@@ -46,6 +63,12 @@ class Material {
 
   /// Elastic predictor, return mapping and equation of state for the whole batch.
   virtual void update_stress(MaterialBatch& batch) = 0;
+
+  /// True when the material has thermal properties (needed by cases with a "thermal" section).
+  virtual bool conducts_heat() const { return false; }
+  /// Conductivity and specific heat at the particles' temperatures (only called when
+  /// conducts_heat()). Temperature-dependent laws belong here.
+  virtual void thermal_properties(ThermalBatch& /*batch*/) const {}
 
   /// Current yield stress (Pa) of each particle, written into `out` (count values), used by
   /// friction laws such as Coulomb-Tresca. Default: no yield limit (infinity).

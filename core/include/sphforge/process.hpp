@@ -16,22 +16,47 @@
 
 namespace sphforge {
 
+/// A body of particles as a process describes it to the core.
+struct BodySpec {
+  std::string name;
+  /// Particle centres on a lattice of spacing `spacing_m`; each particle has volume spacing^3.
+  std::vector<Eigen::Vector3d> positions;
+  double spacing_m = 0.0;
+  /// Key of the case's "materials" object; empty: the case's "material".
+  std::string material;
+  /// Initial velocity of each particle (m/s); empty: at rest.
+  std::vector<Eigen::Vector3d> velocities;
+  /// false: thermal-only particles (e.g. a conducting tool). They take part in heat conduction
+  /// but in no mechanics pass, and the core does not move them.
+  bool mechanics = true;
+};
+
 /// Given to Process::build: the process creates its bodies and tools through it.
 class SceneBuilder {
  public:
   virtual ~SceneBuilder() = default;
-  /// Adds a deformable body of particles on a lattice of spacing `spacing_m` (volume spacing^3
-  /// each) made of the case's material. Returns the body index.
-  virtual std::size_t add_body(const std::string& name, const std::vector<Eigen::Vector3d>& positions,
-                               double spacing_m) = 0;
+  /// Adds a body and returns its index. Mechanical bodies come first in the particle arrays,
+  /// thermal-only bodies after them, each in the order added.
+  virtual std::size_t add_body(BodySpec body) = 0;
+  /// Shorthand: a mechanical body at rest made of the case's material.
+  std::size_t add_body(const std::string& name, const std::vector<Eigen::Vector3d>& positions, double spacing_m) {
+    BodySpec spec;
+    spec.name = name;
+    spec.positions = positions;
+    spec.spacing_m = spacing_m;
+    return add_body(std::move(spec));
+  }
   /// Adds a rigid tool and returns its index.
   virtual std::size_t add_tool(RigidTool tool) = 0;
 };
 
+/// A body's particles in the core's arrays: indices [first, first + count).
 struct BodyRange {
   std::string name;
   std::size_t first = 0, count = 0;
   double spacing_m = 0.0;
+  std::size_t material = 0;  ///< index into the scene's materials
+  bool mechanics = true;
 };
 
 /// What a process sees of the running simulation.
@@ -42,6 +67,10 @@ struct ProcessContext {
   FieldRegistry* fields = nullptr;
   std::vector<RigidTool>* tools = nullptr;
   const std::vector<BodyRange>* bodies = nullptr;
+  /// Particles [0, mechanical_count) take part in mechanics; the rest are thermal-only.
+  std::size_t mechanical_count = 0;
+  /// numerics.time_scaling: processes multiply their tool speeds by it (docs/theory.md eq. 24).
+  double time_scaling = 1.0;
 };
 
 class Process {
@@ -53,8 +82,14 @@ class Process {
   virtual void build(SceneBuilder& scene) = 0;
   /// Declares measured signals and commandable quantities.
   virtual void bind_signals(SignalBus& bus) = 0;
+  /// Once, after the particles exist and before the first step (initial temperatures, convection
+  /// coefficients of surface regions, ...).
+  virtual void initialize(ProcessContext& /*ctx*/) {}
   /// Before each step: applies commands to tool kinematics and boundary conditions.
   virtual void before_step(ProcessContext& ctx) = 0;
+  /// After every rate of the step is known (acceleration including contact, temperature rate)
+  /// and before the integration: prescribed velocities, fixed regions, fixed temperatures.
+  virtual void apply_constraints(ProcessContext& /*ctx*/) {}
   /// After each step: updates measured quantities from tool reactions and particles.
   virtual void measure(ProcessContext& ctx) = 0;
   /// True when the process has reached its own end (e.g. full ram stroke).

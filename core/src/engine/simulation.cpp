@@ -10,6 +10,9 @@
 #include <limits>
 
 #include "backend.hpp"
+#include "engine/energy.hpp"
+#include "engine/heat_conduction.hpp"
+#include "engine/xsph.hpp"
 #include "io/output_writers.hpp"
 #include "sphforge/errors.hpp"
 #include "sphforge/version.hpp"
@@ -25,6 +28,8 @@ const ParamSpecs& top_level_specs() {
       ParamSpec::object("case", "name and description of the case", true),
       ParamSpec::object("process", "the process plugin and its parameters", true),
       ParamSpec::object("material", "the material plugin of the workpiece and its parameters", true),
+      ParamSpec::object("materials", "further materials by name, for bodies that name one (e.g. a tool's)"),
+      ParamSpec::object("thermal", "heat conduction and convection; absent: isothermal (no thermal fields)"),
       ParamSpec::object("contact", "penalty contact settings and the friction law plugin", true),
       ParamSpec::array("controllers", "controller plugins driving the process's commands"),
       ParamSpec::object("numerics", "SPH discretisation settings"),
@@ -53,6 +58,13 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::object("artificial_stress", "Gray-Monaghan-Swift artificial stress against tensile instability"),
       ParamSpec::number("neighbour_skin", "1", 0.2,
                         "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
+      ParamSpec::number("mass_scaling", "1", 1.0,
+                        "factor on every particle's inertia (theory eq. 23); check kinetic_to_internal_ratio_1", 1.0,
+                        1e12),
+      ParamSpec::number("time_scaling", "1", 1.0,
+                        "processes run f times faster; rate laws and heat flow are corrected (theory eq. 24)", 1.0,
+                        1e6),
+      ParamSpec::number("xsph", "1", 0.0, "XSPH velocity smoothing epsilon (theory eq. 18; 0: off)", 0.0, 1.0),
   };
   return specs;
 }
@@ -81,6 +93,18 @@ const ParamSpecs& contact_specs() {
       ParamSpec::number("damping_ratio", "1", 0.2, "fraction of critical damping of the contact spring", 0.0, 1.0),
       ParamSpec::object("law", "friction law plugin used on every tool", true),
       ParamSpec::object("tool_laws", "per-tool friction laws overriding 'law', keyed by tool name"),
+  };
+  return specs;
+}
+
+const ParamSpecs& thermal_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::number("initial_temperature", "K", 293.15, "temperature of every particle at t = 0", 0.0),
+      ParamSpec::number("ambient_temperature", "K", 293.15, "temperature of the surroundings (convection)", 0.0),
+      ParamSpec::number("convection_coefficient", "W/(m^2*K)", 0.0,
+                        "heat transfer coefficient on free surfaces; processes may set it per surface region", 0.0),
+      ParamSpec::number("time_step_factor", "1", 0.1,
+                        "dt <= factor rho c h^2 / k (theory eq. 25)", 1e-3, 1.0),
   };
   return specs;
 }
@@ -185,18 +209,14 @@ class Progress {
 // --- scene building -------------------------------------------------------------------------------
 class Simulation::Builder : public SceneBuilder {
  public:
-  struct Body {
-    std::string name;
-    std::vector<Eigen::Vector3d> positions;
-    double spacing;
-  };
-  std::vector<Body> bodies;
+  std::vector<BodySpec> bodies;
   std::vector<RigidTool> tools;
 
-  std::size_t add_body(const std::string& name, const std::vector<Eigen::Vector3d>& positions,
-                       double spacing_m) override {
-    if (!(spacing_m > 0.0)) throw std::invalid_argument("body '" + name + "': spacing must be positive");
-    bodies.push_back({name, positions, spacing_m});
+  std::size_t add_body(BodySpec body) override {
+    if (!(body.spacing_m > 0.0)) throw std::invalid_argument("body '" + body.name + "': spacing must be positive");
+    if (!body.velocities.empty() && body.velocities.size() != body.positions.size())
+      throw std::invalid_argument("body '" + body.name + "': one initial velocity per particle expected");
+    bodies.push_back(std::move(body));
     return bodies.size() - 1;
   }
   std::size_t add_tool(RigidTool tool) override {
@@ -236,13 +256,29 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.max_steps = run.integer("max_steps");
   settings_.threads = static_cast<int>(run.integer("threads"));
 
-  // Plugins: material, process, contact laws, controllers.
-  std::string material_name, process_name;
+  const double mass_scaling = numerics.number("mass_scaling");
+  settings_.mass_scaling = mass_scaling;
+  settings_.time_scaling = numerics.number("time_scaling");
+  settings_.xsph = numerics.number("xsph");
+
+  // Plugins: materials, process, contact laws, controllers.
+  std::vector<std::string> material_names;  // plugin name of each material, for the pass list
   {
     auto [desc, values] = load_plugin(loader, PluginKind::Material, root, root.raw("material"), "/material");
-    material_ = desc->make_material(values);
-    material_name = desc->name;
+    materials_.push_back(desc->make_material(values));
+    material_keys_.push_back("");
+    material_names.push_back(desc->name);
   }
+  if (root.has("materials") && root.raw("materials").is_object()) {
+    for (const auto& [key, section] : root.raw("materials").items()) {
+      const std::string pointer = "/materials/" + json_pointer_escape(key);
+      auto [desc, values] = load_plugin(loader, PluginKind::Material, root, section, pointer);
+      materials_.push_back(desc->make_material(values));
+      material_keys_.push_back(key);
+      material_names.push_back(desc->name);
+    }
+  }
+  std::string process_name;
   {
     auto [desc, values] = load_plugin(loader, PluginKind::Process, root, root.raw("process"), "/process");
     process_ = desc->make_process(values);
@@ -258,6 +294,40 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   }
   if (builder.bodies.empty()) throw InputError(file, "/process", "the process created no particles");
   tools_ = std::move(builder.tools);
+
+  // Thermal settings: a "thermal" section switches heat conduction on for the whole scene.
+  settings_.thermal.enabled = doc.root.contains("thermal");
+  if (settings_.thermal.enabled) {
+    const ParamValues thermal = root.sub("thermal", thermal_specs());
+    settings_.thermal.initial_temperature_K = thermal.number("initial_temperature");
+    settings_.thermal.ambient_temperature_K = thermal.number("ambient_temperature");
+    settings_.thermal.convection_coefficient = thermal.number("convection_coefficient");
+    settings_.thermal.time_step_factor = thermal.number("time_step_factor");
+  }
+
+  // Bodies: resolve their materials; mechanical bodies first in the arrays (the mechanics passes
+  // then run over one contiguous range [0, mechanical_count_)).
+  std::vector<std::size_t> body_material(builder.bodies.size());
+  for (std::size_t b = 0; b < builder.bodies.size(); ++b) {
+    const BodySpec& spec = builder.bodies[b];
+    auto it = std::find(material_keys_.begin(), material_keys_.end(), spec.material);
+    if (it == material_keys_.end()) {
+      std::string keys;
+      for (std::size_t k = 1; k < material_keys_.size(); ++k) keys += (keys.empty() ? "" : ", ") + material_keys_[k];
+      throw InputError(file, "/process", "body '" + spec.name + "' names material '" + spec.material +
+                                             "', which is not a key of /materials" +
+                                             (keys.empty() ? std::string(" (there is none)") : " (" + keys + ")"));
+    }
+    body_material[b] = static_cast<std::size_t>(it - material_keys_.begin());
+    const std::size_t mat = body_material[b];
+    if (settings_.thermal.enabled && !materials_[mat]->conducts_heat())
+      throw InputError(file, mat == 0 ? "/material" : "/materials/" + json_pointer_escape(material_keys_[mat]),
+                       "the case has a \"thermal\" section but this material has no thermal properties "
+                       "(give its specific_heat and conductivity)");
+    if (!spec.mechanics && !settings_.thermal.enabled)
+      throw InputError(file, "/process", "body '" + spec.name +
+                                             "' is thermal-only, which needs a \"thermal\" section in the case");
+  }
 
   const ParamValues contact = root.sub("contact", contact_specs());
   settings_.contact.stiffness_factor = contact.number("stiffness_factor");
@@ -302,63 +372,123 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       density{field::density, 1, "kg/m^3"}, density_rate{field::density_rate, 1, "kg/m^3/s"},
       pressure{field::pressure, 1, "Pa"}, stress{field::deviatoric_stress, 6, "Pa"},
       grad_v{field::velocity_gradient, 9, "1/s"}, contact_force{field::contact_force, 3, "N"},
-      id{field::id, 1, "1", FieldType::Int64}, body{field::body, 1, "1", FieldType::Int64};
+      id{field::id, 1, "1", FieldType::Int64}, body{field::body, 1, "1", FieldType::Int64},
+      temperature{field::temperature, 1, "K"}, temperature_rate{field::temperature_rate, 1, "K/s"},
+      convection_coefficient{field::convection_coefficient, 1, "W/(m^2*K)"},
+      heat_source{field::heat_source, 1, "W/kg"};
+  bool any_mechanics = false, any_convection = settings_.thermal.convection_coefficient > 0.0;
+  for (const BodySpec& b : builder.bodies) any_mechanics = any_mechanics || b.mechanics;
   // Optional passes and fields enter the list only when the case uses them.
-  std::vector<FieldInfo> gradient_writes = {grad_v};
-  if (settings_.gradient_correction) gradient_writes.push_back(FieldInfo{field::gradient_condition, 1, "1"});
-  std::vector<FieldInfo> material_writes = {stress, pressure};
-  for (const FieldInfo& f : material_->fields()) material_writes.push_back(f);
-  passes_ = {{"particles", {}, {id, body, mass}},
-             {"neighbour_search", {position}, {}},
-             {"velocity_gradient", {position, velocity, mass, density}, gradient_writes},
-             {"continuity", {grad_v, density}, {density_rate}},
-             {"jaumann_rotation", {grad_v}, {stress}},
-             {"material:" + material_name, {grad_v, density}, material_writes}};
-  if (settings_.artificial_stress.epsilon > 0.0)
-    passes_.push_back({"artificial_stress", {pressure, stress, density}, {}});
-  passes_.push_back({"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}});
-  passes_.push_back({"contact", {position, velocity, mass}, {contact_force}});
-  passes_.push_back({"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}});
+  passes_ = {{"particles", {}, {id, body, mass, position}}};
+  if (any_mechanics) {
+    std::vector<FieldInfo> gradient_writes = {grad_v};
+    if (settings_.gradient_correction) gradient_writes.push_back(FieldInfo{field::gradient_condition, 1, "1"});
+    passes_.push_back({"neighbour_search", {position}, {}});
+    passes_.push_back({"velocity_gradient", {position, velocity, mass, density}, gradient_writes});
+    passes_.push_back({"continuity", {grad_v, density}, {density_rate}});
+    passes_.push_back({"jaumann_rotation", {grad_v}, {stress}});
+    std::vector<std::size_t> used;
+    for (std::size_t b = 0; b < builder.bodies.size(); ++b)
+      if (builder.bodies[b].mechanics && std::find(used.begin(), used.end(), body_material[b]) == used.end())
+        used.push_back(body_material[b]);
+    for (std::size_t mat : used) {
+      std::vector<FieldInfo> material_reads = {grad_v, density}, material_writes = {stress, pressure};
+      if (settings_.thermal.enabled) {
+        material_reads.push_back(temperature);
+        material_writes.push_back(heat_source);
+      }
+      for (const FieldInfo& f : materials_[mat]->fields()) material_writes.push_back(f);
+      passes_.push_back({"material:" + material_names[mat], material_reads, material_writes});
+    }
+    if (settings_.artificial_stress.epsilon > 0.0)
+      passes_.push_back({"artificial_stress", {pressure, stress, density}, {}});
+    passes_.push_back({"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}});
+    passes_.push_back({"contact", {position, velocity, mass}, {contact_force}});
+    if (settings_.xsph > 0.0) passes_.push_back({"xsph", {position, velocity, mass, density}, {}});
+    passes_.push_back({"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}});
+  }
+  if (settings_.thermal.enabled) {
+    std::vector<FieldInfo> reads = {position, mass, density, temperature};
+    if (any_mechanics) reads.push_back(heat_source);
+    passes_.push_back({"heat_conduction", reads, {temperature_rate}});
+    passes_.push_back({"convection", {position, mass, density, temperature}, {convection_coefficient}});
+    passes_.push_back({"integrate_temperature", {temperature_rate}, {temperature}});
+  }
   std::vector<FieldInfo> process_fields = process_->fields();
   if (!process_fields.empty()) passes_.push_back({"process:" + process_name, {}, process_fields});
   for (const PassInfo& pass : passes_) {
     for (const FieldInfo& f : pass.reads) fields_.declare(f, pass.name, Access::Read);
     for (const FieldInfo& f : pass.writes) fields_.declare(f, pass.name, Access::Write);
   }
+  (void)any_convection;
 
   // --- Particles ----------------------------------------------------------------------------------
   for (const auto& b : builder.bodies) count_ += b.positions.size();
   if (count_ == 0) throw InputError(file, "/process", "the process created no particles");
   fields_.allocate(count_);
-  spacing_ = builder.bodies.front().spacing;
-  for (const auto& b : builder.bodies) spacing_ = std::max(spacing_, b.spacing);
+  spacing_ = builder.bodies.front().spacing_m;
+  for (const auto& b : builder.bodies) spacing_ = std::max(spacing_, b.spacing_m);
   h_ = settings_.h_over_dx * spacing_;
   settings_.artificial_stress.w_dx = kernel_value(settings_.kernel, spacing_, h_);
-  const double rho0 = material_->reference_density();
   double* x = fields_.f64(field::position);
+  double* v = fields_.f64_if(field::velocity);
   double* m = fields_.f64(field::mass);
   double* rho = fields_.f64(field::density);
   std::int64_t* ids = fields_.i64(field::id);
   std::int64_t* body_of = fields_.i64(field::body);
-  std::size_t i = 0;
-  for (std::size_t b = 0; b < builder.bodies.size(); ++b) {
-    const auto& src = builder.bodies[b];
-    bodies_.push_back({src.name, i, src.positions.size(), src.spacing});
-    const double particle_mass = rho0 * src.spacing * src.spacing * src.spacing;
-    for (const auto& p : src.positions) {
-      for (int d = 0; d < 3; ++d) x[3 * i + d] = p[d];
-      m[i] = particle_mass;
-      rho[i] = rho0;
-      ids[i] = static_cast<std::int64_t>(i);
-      body_of[i] = static_cast<std::int64_t>(b);
-      ++i;
+  // Particle ranges: mechanical bodies first, thermal-only after, each in the order added; the
+  // body index (field `body`, ProcessContext::bodies) is the order the process added them.
+  bodies_.resize(builder.bodies.size());
+  std::size_t next = 0;
+  for (const bool mechanics : {true, false}) {
+    for (std::size_t b = 0; b < builder.bodies.size(); ++b) {
+      const BodySpec& src = builder.bodies[b];
+      if (src.mechanics != mechanics) continue;
+      bodies_[b] = {src.name, next, src.positions.size(), src.spacing_m, body_material[b], src.mechanics};
+      const Material& material = *materials_[body_material[b]];
+      // Mass scaling multiplies mass and (inertial) density alike (eq. 23).
+      const double rho0 = material.reference_density() * mass_scaling;
+      const double particle_mass = rho0 * src.spacing_m * src.spacing_m * src.spacing_m;
+      for (std::size_t k = 0; k < src.positions.size(); ++k, ++next) {
+        for (int d = 0; d < 3; ++d) x[3 * next + d] = src.positions[k][d];
+        if (v && !src.velocities.empty())
+          for (int d = 0; d < 3; ++d) v[3 * next + d] = src.velocities[k][d];
+        m[next] = particle_mass;
+        rho[next] = rho0;
+        ids[next] = static_cast<std::int64_t>(next);
+        body_of[next] = static_cast<std::int64_t>(b);
+      }
     }
+    if (mechanics) mechanical_count_ = next;
   }
-  for (const auto& b : bodies_) material_->initialize(fields_, b.first, b.count);
+  for (const auto& b : bodies_)
+    if (b.mechanics) materials_[b.material]->initialize(fields_, b.first, b.count);
+  if (settings_.thermal.enabled) {
+    double* T = fields_.f64(field::temperature);
+    std::fill(T, T + count_, settings_.thermal.initial_temperature_K);
+    double* hc = fields_.f64(field::convection_coefficient);
+    std::fill(hc, hc + count_, settings_.thermal.convection_coefficient);
+    conductivity_.resize(count_);
+    specific_heat_.resize(count_);
+    heat_W_.resize(count_);
+    area_.resize(count_);
+    thermal_volume_.resize(count_);
+  }
 
-  min_mass_ = *std::min_element(m, m + count_);  // masses never change: the contact limit is fixed
-  const double c0 = material_->wave_speed();
-  contact_.configure(settings_.contact, tool_laws, spacing_, rho0 * c0 * c0);
+  // Wave speed of the mechanical materials, slowed by mass scaling (eq. 23).
+  double c_max = 0.0;
+  for (const auto& b : bodies_)
+    if (b.mechanics) c_max = std::max(c_max, materials_[b.material]->wave_speed());
+  wave_speed_ = c_max / std::sqrt(mass_scaling);
+  if (mechanical_count_ > 0) {
+    min_mass_ = *std::min_element(m, m + mechanical_count_);  // masses never change: the contact limit is fixed
+    // Contact stiffness from the P-wave modulus M = rho0 c^2 of the workpiece material, which
+    // mass scaling leaves unchanged (rho0 s c^2 / s).
+    const auto first_mechanical = std::find_if(bodies_.begin(), bodies_.end(), [](const BodyRange& b) { return b.mechanics; });
+    const Material& work = *materials_[first_mechanical->material];
+    const double c0 = work.wave_speed();
+    contact_.configure(settings_.contact, tool_laws, spacing_, work.reference_density() * c0 * c0);
+  }
   if (need_yield_) yield_scratch_.resize(count_);
   process_columns_ = process_->history_columns();
   for (const auto& c : controllers_)
@@ -368,71 +498,120 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
 Simulation::~Simulation() = default;
 
 // --- time step ------------------------------------------------------------------------------------
+double Simulation::thermal_time_step() const {
+  // Explicit conduction is stable for dt < factor rho c h^2 / k (eq. 25), with time scaling f
+  // speeding the conduction up f times. Uses the properties of the last thermal pass.
+  if (!settings_.thermal.enabled) return std::numeric_limits<double>::infinity();
+  const double* rho = fields_.f64(field::density);
+  double limit = std::numeric_limits<double>::infinity();
+  const double s = settings_.mass_scaling;
+#pragma omp parallel for reduction(min : limit) schedule(static)
+  for (std::size_t i = 0; i < count_; ++i) {
+    if (!(conductivity_[i] > 0.0)) continue;
+    // Thermal inertia uses the physical density: mass scaling is a mechanical device only.
+    limit = std::min(limit, rho[i] / s * specific_heat_[i] / conductivity_[i]);
+  }
+  return settings_.thermal.time_step_factor * h_ * h_ * limit / settings_.time_scaling;
+}
+
 double Simulation::stable_time_step() {
-  const double* v = fields_.f64(field::velocity);
-  double vmax2 = 0.0;
+  const std::size_t nm = mechanical_count_;
+  dt_cfl_ = dt_contact_ = std::numeric_limits<double>::infinity();
+  if (nm > 0) {
+    const double* v = fields_.f64(field::velocity);
+    double vmax2 = 0.0;
 #pragma omp parallel for reduction(max : vmax2) schedule(static)
-  for (std::size_t i = 0; i < count_; ++i)
-    vmax2 = std::max(vmax2, v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-  // NaN in a velocity makes vmax2 NaN or is lost by max(); the stability check finds it.
-  const double c = material_->wave_speed();
-  dt_cfl_ = settings_.cfl * h_ / (c + std::sqrt(vmax2));  // eq. 13
-  // Half the contact spring's stability limit: a safety margin for the damping's velocity lag.
-  dt_contact_ = 0.5 * contact_.stable_time_step(min_mass_);
-  return std::min(dt_cfl_, dt_contact_);
+    for (std::size_t i = 0; i < nm; ++i)
+      vmax2 = std::max(vmax2, v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+    // NaN in a velocity is lost by max(); the stability check finds it.
+    dt_cfl_ = settings_.cfl * h_ / (wave_speed_ + std::sqrt(vmax2));  // eq. 13
+    // Half the contact spring's stability limit: a safety margin for the damping's velocity lag.
+    if (!tools_.empty()) dt_contact_ = 0.5 * contact_.stable_time_step(min_mass_);
+  }
+  dt_thermal_ = thermal_time_step();
+  return std::min({dt_cfl_, dt_contact_, dt_thermal_});
 }
 
 void Simulation::check_stability() const {
-  // Cheap every step: all positions, velocities and the time step. Stress every 10 steps.
-  const double* x = fields_.f64(field::position);
-  const double* v = fields_.f64(field::velocity);
   const std::int64_t* ids = fields_.i64(field::id);
+  const std::size_t nm = mechanical_count_;
   std::size_t bad = count_;
+  if (nm > 0) {
+    // Cheap every step: all positions, velocities and the time step. Stress every 10 steps.
+    const double* x = fields_.f64(field::position);
+    const double* v = fields_.f64(field::velocity);
 #pragma omp parallel for reduction(min : bad) schedule(static)
-  for (std::size_t i = 0; i < count_; ++i)
-    if (!finite3(x + 3 * i) || !finite3(v + 3 * i)) bad = std::min(bad, i);
-  if (bad < count_)
-    throw InstabilityError(step_, time_, ids[bad], finite3(x + 3 * bad) ? field::velocity : field::position,
-                           "value is not finite (NaN or Inf)");
-  if (step_ % 10 == 0) {
-    const double* s = fields_.f64(field::deviatoric_stress);
-    const double* p = fields_.f64(field::pressure);
-#pragma omp parallel for reduction(min : bad) schedule(static)
-    for (std::size_t i = 0; i < count_; ++i) {
-      bool ok = std::isfinite(p[i]);
-      for (int c = 0; c < 6; ++c) ok = ok && std::isfinite(s[6 * i + c]);
-      if (!ok) bad = std::min(bad, i);
-    }
+    for (std::size_t i = 0; i < nm; ++i)
+      if (!finite3(x + 3 * i) || !finite3(v + 3 * i)) bad = std::min(bad, i);
     if (bad < count_)
-      throw InstabilityError(step_, time_, ids[bad], field::deviatoric_stress, "stress is not finite (NaN or Inf)");
-  }
-  if (step_ % 10 == 0) {
-    // Energy ledger: without body forces, the kinetic energy can never exceed what the tools put
-    // in plus what the particles started with; twice that means energy is being created.
-    double work = 0.0;
-    for (const auto& t : tools_) work += t.work_J;
-    const double ke = kinetic_energy();
-    const double budget = initial_kinetic_energy_ + std::max(work, 0.0);
-    if (ke > 2.0 * budget && ke > 0.0) {
-      const auto [fastest, speed] = fastest_particle(v, count_);
+      throw InstabilityError(step_, time_, ids[bad], finite3(x + 3 * bad) ? field::velocity : field::position,
+                             "value is not finite (NaN or Inf)");
+    if (step_ % 10 == 0) {
+      const double* s = fields_.f64(field::deviatoric_stress);
+      const double* p = fields_.f64(field::pressure);
+#pragma omp parallel for reduction(min : bad) schedule(static)
+      for (std::size_t i = 0; i < nm; ++i) {
+        bool ok = std::isfinite(p[i]);
+        for (int c = 0; c < 6; ++c) ok = ok && std::isfinite(s[6 * i + c]);
+        if (!ok) bad = std::min(bad, i);
+      }
+      if (bad < count_)
+        throw InstabilityError(step_, time_, ids[bad], field::deviatoric_stress, "stress is not finite (NaN or Inf)");
+      // Particles leaving the domain: farther from the initial bounding box than its own size
+      // (or than 100 spacings for a thin scene) means a particle was ejected.
+#pragma omp parallel for reduction(min : bad) schedule(static)
+      for (std::size_t i = 0; i < nm; ++i)
+        for (int d = 0; d < 3; ++d)
+          if (x[3 * i + d] < domain_min_[d] || x[3 * i + d] > domain_max_[d]) bad = std::min(bad, i);
+      if (bad < count_)
+        throw InstabilityError(step_, time_, ids[bad], field::position,
+                               "particle left the domain at (" + format_g(x[3 * bad]) + ", " +
+                                   format_g(x[3 * bad + 1]) + ", " + format_g(x[3 * bad + 2]) +
+                                   ") m: the domain is the initial scene enlarged by its size on every side");
+      // Energy ledger: without body forces, the kinetic energy can never exceed what the tools
+      // put in plus what the particles started with; twice that means energy is being created.
+      double work = 0.0;
+      for (const auto& t : tools_) work += t.work_J;
+      const double ke = kinetic_energy();
+      const double budget = initial_kinetic_energy_ + std::max(work, 0.0);
+      if (ke > 2.0 * budget && ke > 0.0) {
+        const auto [fastest, speed] = fastest_particle(v, nm);
+        throw InstabilityError(step_, time_, ids[fastest], field::velocity,
+                               "kinetic energy " + format_g(ke) + " J exceeds twice the energy put in (" +
+                                   format_g(budget) + " J: initial kinetic energy plus tool work): energy is being "
+                                   "created numerically; fastest particle at " + format_g(speed) + " m/s");
+      }
+    }
+    if (dt_ < 1e-3 * dt_initial_) {
+      // The fastest particle is what collapsed the step.
+      const auto [fastest, vmax] = fastest_particle(v, nm);
       throw InstabilityError(step_, time_, ids[fastest], field::velocity,
-                             "kinetic energy " + format_g(ke) + " J exceeds twice the energy put in (" +
-                                 format_g(budget) + " J: initial kinetic energy plus tool work): energy is being "
-                                 "created numerically; fastest particle at " + format_g(speed) + " m/s");
+                             "time step collapsed to " + format_g(dt_) + " s (< 1e-3 of the initial " +
+                                 format_g(dt_initial_) + " s); speed " + format_g(vmax) + " m/s");
     }
   }
-  if (dt_ < 1e-3 * dt_initial_) {
-    // The fastest particle is what collapsed the step.
-    const auto [fastest, vmax] = fastest_particle(v, count_);
-    throw InstabilityError(step_, time_, ids[fastest], field::velocity,
-                           "time step collapsed to " + format_g(dt_) + " s (< 1e-3 of the initial " +
-                               format_g(dt_initial_) + " s); speed " + format_g(vmax) + " m/s");
+  if (settings_.thermal.enabled && step_ % 10 == 0) {
+    const double* T = fields_.f64(field::temperature);
+#pragma omp parallel for reduction(min : bad) schedule(static)
+    for (std::size_t i = 0; i < count_; ++i)
+      if (!std::isfinite(T[i]) || T[i] < 0.0) bad = std::min(bad, i);
+    if (bad < count_)
+      throw InstabilityError(step_, time_, ids[bad], field::temperature,
+                             "temperature " + format_g(fields_.f64(field::temperature)[bad]) +
+                                 " K is not finite or negative (conduction unstable? lower thermal.time_step_factor)");
   }
 }
 
+ProcessContext Simulation::context() {
+  ProcessContext ctx{time_, dt_, step_, &fields_, &tools_, &bodies_};
+  ctx.mechanical_count = mechanical_count_;
+  ctx.time_scaling = settings_.time_scaling;
+  return ctx;
+}
+
 // --- one step ---------------------------------------------------------------------------------------
-void Simulation::step() {
-  const std::size_t n = count_;
+void Simulation::mechanics_rates() {
+  const std::size_t n = mechanical_count_;
   double* x = fields_.f64(field::position);
   double* v = fields_.f64(field::velocity);
   double* a = fields_.f64(field::acceleration);
@@ -443,14 +622,8 @@ void Simulation::step() {
   double* S = fields_.f64(field::deviatoric_stress);
   double* L = fields_.f64(field::velocity_gradient);
   double* fc = fields_.f64(field::contact_force);
-
-  dt_ = stable_time_step();
-  if (step_ == 0) dt_initial_ = dt_;
-
-  ProcessContext ctx{time_, dt_, step_, &fields_, &tools_, &bodies_};
-  for (auto& c : controllers_) c->update(time_, dt_);
-  process_->before_step(ctx);
-  if (step_ == 0) initial_kinetic_energy_ = kinetic_energy();  // after the process set initial velocities
+  double* T = fields_.f64_if(field::temperature);
+  double* heat_source = fields_.f64_if(field::heat_source);
 
   neighbours_.update(x, n, kernel_support_radius(h_), settings_.neighbour_skin * h_);
   const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
@@ -469,37 +642,135 @@ void Simulation::step() {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) rho[i] += dt_ * drho[i];
   jaumann_rotation(L, dt_, S, n);
+  // Materials see the physical density: mass scaling multiplied the inertial one (eq. 23).
+  const double* material_density = rho;
+  if (settings_.mass_scaling != 1.0) {
+    physical_density_.resize(n);
+    const double inv_s = 1.0 / settings_.mass_scaling;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) physical_density_[i] = rho[i] * inv_s;
+    material_density = physical_density_.data();
+  }
+  if (heat_source) std::fill(heat_source, heat_source + n, 0.0);
   for (const BodyRange& b : bodies_) {
+    if (!b.mechanics) continue;
     MaterialBatch batch;
     batch.count = b.count;
     batch.dt = dt_;
     batch.velocity_gradient = L + 9 * b.first;
-    batch.density = rho + b.first;
+    batch.density = material_density + b.first;
     batch.deviatoric_stress = S + 6 * b.first;
     batch.pressure = p + b.first;
     batch.fields = &fields_;
     batch.first = b.first;
-    material_->update_stress(batch);
-    if (need_yield_) material_->yield_stress(batch, yield_scratch_.data() + b.first);
+    batch.temperature = T ? T + b.first : nullptr;
+    batch.heat_source = heat_source ? heat_source + b.first : nullptr;
+    batch.time_scaling = settings_.time_scaling;
+    materials_[b.material]->update_stress(batch);
+    if (need_yield_) materials_[b.material]->yield_stress(batch, yield_scratch_.data() + b.first);
   }
+  internal_energy_ += dt_ * stress_power(m, rho, S, p, L, n);  // eq. 26
   stress_over_density_squared(p, S, rho, sigma_over_rho2, n);
   if (artificial) artificial_stress(sigma_over_rho2, settings_.artificial_stress.epsilon, artificial, n);
-  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, material_->wave_speed(), x, v, m, rho,
-                sigma_over_rho2, settings_.artificial_stress, artificial, a, n);
+  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, x, v, m, rho, sigma_over_rho2,
+                settings_.artificial_stress, artificial, a, n);
   std::fill(fc, fc + 3 * n, 0.0);
   contacts_ = contact_.apply(tools_, x, v, m, need_yield_ ? yield_scratch_.data() : nullptr, n, dt_, fc);
-
-  // Symplectic Euler (leapfrog with velocities at half steps): v^{n+1/2} = v^{n-1/2} + dt a^n,
-  // x^{n+1} = x^n + dt v^{n+1/2}  (eq. 14)
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double inv_m = 1.0 / m[i];
-    for (int d = 0; d < 3; ++d) {
-      a[3 * i + d] += fc[3 * i + d] * inv_m;
-      v[3 * i + d] += dt_ * a[3 * i + d];
-      x[3 * i + d] += dt_ * v[3 * i + d];
+    for (int d = 0; d < 3; ++d) a[3 * i + d] += fc[3 * i + d] * inv_m;
+  }
+}
+
+void Simulation::thermal_rates() {
+  const std::size_t n = count_;
+  const double* x = fields_.f64(field::position);
+  const double* m = fields_.f64(field::mass);
+  const double* rho = fields_.f64(field::density);
+  const double* T = fields_.f64(field::temperature);
+  const double* hc = fields_.f64(field::convection_coefficient);
+  const double* heat_source = fields_.f64_if(field::heat_source);
+  double* dT = fields_.f64(field::temperature_rate);
+  // Neighbours of every particle: the mechanics lists serve when all particles are mechanical
+  // (they were just updated); thermal-only bodies need lists of their own.
+  const NeighbourList* nl = &neighbours_;
+  if (mechanical_count_ < n) {
+    thermal_neighbours_.update(x, n, kernel_support_radius(h_), settings_.neighbour_skin * h_);
+    nl = &thermal_neighbours_;
+  }
+  double* volume = thermal_volume_.data();
+  particle_volume(m, rho, volume, n);
+  evaluate_thermal_properties();
+  std::fill(heat_W_.begin(), heat_W_.end(), 0.0);
+  heat_conduction(*nl, settings_.kernel, h_, x, volume, T, conductivity_.data(), heat_W_.data(), n);  // eq. 19
+  if (any_convection_) {
+    surface_area(*nl, settings_.kernel, h_, x, volume, area_.data(), n);  // eq. 21
+    convection(hc, area_.data(), T, settings_.thermal.ambient_temperature_K, heat_W_.data(), n);  // eq. 22
+  }
+  // m c dT/dt = f (Q_conduction + Q_convection) + m q_plastic with physical masses; time scaling f
+  // speeds up the heat flow to keep pace with the f-times faster deformation (eq. 24).
+  const double f = settings_.time_scaling, inv_s = 1.0 / settings_.mass_scaling;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double physical_mass = m[i] * inv_s;
+    const double source = heat_source && i < mechanical_count_ ? physical_mass * heat_source[i] : 0.0;
+    dT[i] = (f * heat_W_[i] + source) / (physical_mass * specific_heat_[i]);
+  }
+}
+
+void Simulation::evaluate_thermal_properties() {
+  const double* T = fields_.f64(field::temperature);
+  for (const BodyRange& b : bodies_) {
+    ThermalBatch batch{b.count, T + b.first, conductivity_.data() + b.first, specific_heat_.data() + b.first,
+                       &fields_, b.first};
+    materials_[b.material]->thermal_properties(batch);
+  }
+}
+
+void Simulation::integrate() {
+  // Symplectic Euler (leapfrog with velocities at half steps): v^{n+1/2} = v^{n-1/2} + dt a^n,
+  // x^{n+1} = x^n + dt v^{n+1/2}  (eq. 14); with XSPH the particles move with the smoothed
+  // velocity (eq. 18).
+  const std::size_t n = mechanical_count_;
+  if (n > 0) {
+    double* x = fields_.f64(field::position);
+    double* v = fields_.f64(field::velocity);
+    const double* a = fields_.f64(field::acceleration);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < 3 * n; ++i) v[i] += dt_ * a[i];
+    if (settings_.xsph > 0.0) {
+      xsph_scratch_.resize(3 * n);
+      xsph_correction(neighbours_, settings_.kernel, h_, settings_.xsph, x, v, fields_.f64(field::mass),
+                      fields_.f64(field::density), xsph_scratch_.data(), n);
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < 3 * n; ++i) x[i] += dt_ * (v[i] + xsph_scratch_[i]);
+    } else {
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < 3 * n; ++i) x[i] += dt_ * v[i];
     }
   }
+  if (settings_.thermal.enabled) {
+    double* T = fields_.f64(field::temperature);
+    const double* dT = fields_.f64(field::temperature_rate);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < count_; ++i) T[i] += dt_ * dT[i];
+  }
+}
+
+void Simulation::step() {
+  dt_ = stable_time_step();
+  if (step_ == 0) dt_initial_ = dt_;
+
+  ProcessContext ctx = context();
+  for (auto& c : controllers_) c->update(time_, dt_);
+  process_->before_step(ctx);
+  if (step_ == 0) initial_kinetic_energy_ = kinetic_energy();  // after the process set initial velocities
+
+  if (mechanical_count_ > 0) mechanics_rates();
+  if (settings_.thermal.enabled) thermal_rates();
+  process_->apply_constraints(ctx);
+  integrate();
   for (auto& tool : tools_) {
     tool.work_J += tool.power_W * dt_;
     tool.advance(dt_);
@@ -513,19 +784,20 @@ void Simulation::step() {
 }
 
 double Simulation::kinetic_energy() const {
-  const double* v = fields_.f64(field::velocity);
-  const double* m = fields_.f64(field::mass);
-  double e = 0.0;
-  for (std::size_t i = 0; i < count_; ++i)
-    e += 0.5 * m[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
-  return e;
+  if (mechanical_count_ == 0) return 0.0;
+  return sphforge::kinetic_energy(fields_.f64(field::mass), fields_.f64(field::velocity), mechanical_count_);
 }
 
 std::vector<std::string> Simulation::history_header() const {
   std::vector<std::string> h = {"time_s", "step_1", "dt_s", "dt_cfl_s", "dt_contact_s", "neighbour_builds_1",
                                 "kinetic_energy_J", "tool_work_J", "kinetic_to_work_ratio_1", "contacts_1",
-                                "sticking_fraction_1"};
+                                "sticking_fraction_1", "internal_energy_J", "kinetic_to_internal_ratio_1"};
   static_assert(kRatioColumn == 8);
+  if (settings_.thermal.enabled) {
+    h.push_back("dt_thermal_s");
+    h.push_back("temperature_max_K");
+    h.push_back("temperature_min_K");
+  }
   for (const auto& t : tools_) {
     h.push_back(t.name() + "_force_x_N");
     h.push_back(t.name() + "_force_y_N");
@@ -545,7 +817,15 @@ std::vector<double> Simulation::history_row() const {
   const double ke = kinetic_energy();
   std::vector<double> r = {time_, static_cast<double>(step_), dt_, dt_cfl_, dt_contact_,
                            static_cast<double>(neighbours_.builds()), ke, work, work > 0.0 ? ke / work : 0.0,
-                           static_cast<double>(contacts_), contact_.sticking_fraction()};
+                           static_cast<double>(contacts_), contact_.sticking_fraction(), internal_energy_,
+                           internal_energy_ > 0.0 ? ke / internal_energy_ : 0.0};
+  if (settings_.thermal.enabled) {
+    const double* T = fields_.f64(field::temperature);
+    const auto [lo, hi] = std::minmax_element(T, T + count_);
+    r.push_back(dt_thermal_);
+    r.push_back(*hi);
+    r.push_back(*lo);
+  }
   for (const auto& t : tools_) {
     r.push_back(t.reaction_force_N.x());
     r.push_back(t.reaction_force_N.y());
@@ -558,6 +838,35 @@ std::vector<double> Simulation::history_row() const {
 }
 
 // --- the run ----------------------------------------------------------------------------------------
+void Simulation::prepare_run() {
+  if (step_ > 0) return;
+  ProcessContext ctx = context();
+  process_->initialize(ctx);
+  if (settings_.thermal.enabled) {
+    const double* hc = fields_.f64(field::convection_coefficient);
+    any_convection_ = std::any_of(hc, hc + count_, [](double c) { return c > 0.0; });
+    evaluate_thermal_properties();  // for the first thermal time step
+  }
+  // The domain a particle may not leave: the initial scene enlarged by its own size (at least
+  // 100 spacings) on every side.
+  const double* x = fields_.f64(field::position);
+  for (int d = 0; d < 3; ++d) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t i = 0; i < count_; ++i) {
+      lo = std::min(lo, x[3 * i + d]);
+      hi = std::max(hi, x[3 * i + d]);
+    }
+    domain_min_[d] = lo;
+    domain_max_[d] = hi;
+  }
+  double size = 100.0 * spacing_;
+  for (int d = 0; d < 3; ++d) size = std::max(size, domain_max_[d] - domain_min_[d]);
+  for (int d = 0; d < 3; ++d) {
+    domain_min_[d] -= size;
+    domain_max_[d] += size;
+  }
+}
+
 Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode progress_mode) {
   if (settings_.threads > 0) omp_set_num_threads(settings_.threads);
   fs::create_directories(out_dir);
@@ -583,8 +892,9 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     // when both energies are still tiny and their ratio meaningless).
     if (time_ >= 0.1 * settings_.end_time_s) max_kinetic_to_work = std::max(max_kinetic_to_work, row[kRatioColumn]);
   };
+  prepare_run();
   // Measure once so that the first history row is meaningful.
-  ProcessContext ctx0{time_, 0.0, step_, &fields_, &tools_, &bodies_};
+  ProcessContext ctx0 = context();
   process_->measure(ctx0);
   write_frame();
   write_history();
@@ -596,7 +906,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   try {
     while (time_ < settings_.end_time_s * (1.0 - 1e-12)) {
       if (settings_.max_steps > 0 && step_ >= settings_.max_steps) { status = "max_steps"; break; }
-      ProcessContext ctx{time_, dt_, step_, &fields_, &tools_, &bodies_};
+      ProcessContext ctx = context();
       if (process_->finished(ctx)) { status = "process_finished"; break; }
       step();
       if (time_ >= next_history) {

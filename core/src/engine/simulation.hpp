@@ -27,6 +27,15 @@ struct CoreSettings {
   ArtificialViscosity viscosity;
   ArtificialStress artificial_stress;
   ContactSettings contact;
+  double mass_scaling = 1.0;  ///< eq. 23
+  double time_scaling = 1.0;  ///< eq. 24
+  double xsph = 0.0;          ///< eq. 18, 0: off
+  struct Thermal {
+    bool enabled = false;
+    double initial_temperature_K = 293.15, ambient_temperature_K = 293.15;
+    double convection_coefficient = 0.0;  ///< W/(m^2 K) on free surfaces unless the process sets it
+    double time_step_factor = 0.1;        ///< eq. 25
+  } thermal;
   double end_time_s = 0.0;
   double output_interval_s = 0.0;
   double history_interval_s = 0.0;
@@ -69,11 +78,19 @@ class Simulation {
   std::vector<std::string> history_header() const;
   std::vector<double> history_row() const;
   double kinetic_energy() const;
+  void mechanics_rates();
+  void thermal_rates();
+  void integrate();
+  void evaluate_thermal_properties();
+  void prepare_run();
+  double thermal_time_step() const;
+  ProcessContext context();
 
   CoreSettings settings_;
   std::string case_file_;
   PluginLoader& loader_;
-  std::unique_ptr<Material> material_;
+  std::vector<std::unique_ptr<Material>> materials_;  ///< [0]: the case's "material"
+  std::vector<std::string> material_keys_;           ///< "" for [0], else the key in "materials"
   std::unique_ptr<Process> process_;
   std::vector<std::unique_ptr<ContactLaw>> contact_laws_;
   std::vector<std::unique_ptr<Controller>> controllers_;
@@ -83,13 +100,21 @@ class Simulation {
   std::vector<PassInfo> passes_;
   std::vector<BodyRange> bodies_;
   std::vector<RigidTool> tools_;
-  NeighbourList neighbours_;
+  NeighbourList neighbours_;          ///< mechanical particles [0, mechanical_count_)
+  NeighbourList thermal_neighbours_;  ///< all particles, only when there are thermal-only bodies
   PenaltyContact contact_;
   bool need_yield_ = false;
   std::vector<double> yield_scratch_;
   std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, sigma/rho^2)
 
-  std::size_t count_ = 0;
+  std::size_t count_ = 0, mechanical_count_ = 0;
+  double wave_speed_ = 0.0;  ///< fastest mechanical wave, mass scaling included
+  // Thermal scratch (thermal scenes only): properties, heat flow (W) and surface area (m^2).
+  std::vector<double> conductivity_, specific_heat_, heat_W_, area_, thermal_volume_, physical_density_;
+  std::vector<double> xsph_scratch_;
+  double internal_energy_ = 0.0, dt_thermal_ = 0.0;
+  bool any_convection_ = false;
+  double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
   double time_ = 0.0, dt_ = 0.0, dt_initial_ = 0.0, dt_cfl_ = 0.0, dt_contact_ = 0.0;
   long long step_ = 0;
