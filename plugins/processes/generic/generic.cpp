@@ -1,0 +1,494 @@
+// Process plugin `generic`: scenes built from primitives, for verification problems and quick
+// experiments. Bodies (box, cylinder, tube, disc) with an initial velocity, rotation or a
+// cantilever mode shape; regions with prescribed velocity or temperature; rigid planes normal
+// to z moving at a constant speed; probes that follow one particle and write its displacement,
+// velocity, stress or temperature to the history. Geometry conventions: docs/processes/generic.md.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+
+#include <Eigen/Geometry>
+
+#include "sphforge/plugin.hpp"
+#include "sphforge/units.hpp"
+
+namespace {
+
+using namespace sphforge;
+using Vec = Eigen::Vector3d;
+
+/// Reads a 3-vector given as an array of three numbers (SI) or quantity strings in `unit`.
+Vec vector3(const ParamValues& p, const std::string& name, const std::string& unit) {
+  const json& value = p.raw(name);
+  if (!value.is_array() || value.size() != 3) p.fail(name, "expected an array of three values in " + unit);
+  Vec out;
+  for (int d = 0; d < 3; ++d) {
+    const json& c = value[static_cast<std::size_t>(d)];
+    if (c.is_number()) {
+      out[d] = c.get<double>();
+    } else if (c.is_string()) {
+      try {
+        out[d] = parse_quantity(c.get<std::string>(), unit);
+      } catch (const std::invalid_argument& e) {
+        p.fail(name, "component " + std::to_string(d) + ": " + e.what());
+      }
+    } else {
+      p.fail(name, "component " + std::to_string(d) + ": expected a number or a \"value unit\" string");
+    }
+  }
+  return out;
+}
+
+/// True when an optional array or object parameter was given (absent ones default to empty).
+bool given(const ParamValues& p, const std::string& name) {
+  if (!p.has(name)) return false;
+  const json& v = p.raw(name);
+  return !v.is_null() && !((v.is_array() || v.is_object()) && v.empty());
+}
+
+const ParamSpecs& body_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::string("name", std::nullopt, "body name (history columns, `body` field)"),
+      ParamSpec::string("shape", std::nullopt, "primitive", {"box", "cylinder", "tube", "disc"}),
+      ParamSpec::array("min", "box: lower corner [x, y, z] (m)"),
+      ParamSpec::array("max", "box: upper corner [x, y, z] (m)"),
+      ParamSpec::array("center", "cylinder/tube/disc: centre of the base [x, y, z] (m); axis along z"),
+      ParamSpec::number("radius", "m", 0.0, "cylinder/disc radius; tube outer radius", 0.0),
+      ParamSpec::number("inner_radius", "m", 0.0, "tube inner radius", 0.0),
+      ParamSpec::number("height", "m", 0.0, "cylinder/tube height, disc thickness (along z)", 0.0),
+      ParamSpec::string("material", std::string(), "key in the case's \"materials\" (empty: \"material\")"),
+      ParamSpec::boolean("mechanics", true, "false: thermal-only particles (conduction only, never move)"),
+      ParamSpec::array("velocity", "initial velocity [vx, vy, vz] (m/s)"),
+      ParamSpec::array("angular_velocity", "initial rigid rotation [wx, wy, wz] (rad/s) about `center`"),
+      ParamSpec::object("velocity_profile",
+                        "initial cantilever first-mode velocity: {axis_start, length, amplitude, direction}"),
+      ParamSpec::number("temperature", "K", -1.0, "initial temperature (thermal cases; -1: thermal default)"),
+      ParamSpec::number("convection_coefficient", "W/(m^2*K)", -1.0,
+                        "heat transfer coefficient of this body's free surface (-1: thermal default)"),
+  };
+  return specs;
+}
+
+const ParamSpecs& profile_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::number("axis_start", "m", std::nullopt, "x of the clamped root (the beam lies along +x)"),
+      ParamSpec::number("length", "m", std::nullopt, "free length L", 0.0),
+      ParamSpec::number("amplitude", "m/s", std::nullopt, "velocity at the free end"),
+      ParamSpec::string("direction", std::string("y"), "velocity direction", {"x", "y", "z"}),
+  };
+  return specs;
+}
+
+const ParamSpecs& region_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::string("name", std::nullopt, "region name"),
+      ParamSpec::string("body", std::string(), "restrict to this body (empty: every body)"),
+      ParamSpec::array("min", "lower corner of the region's box [x, y, z] (m)", true),
+      ParamSpec::array("max", "upper corner of the region's box [x, y, z] (m)", true),
+      ParamSpec::array("velocity", "prescribed velocity [vx, vy, vz] (m/s); [0, 0, 0] clamps"),
+      ParamSpec::number("temperature", "K", -1.0, "prescribed temperature (-1: free)"),
+      ParamSpec::number("convection_coefficient", "W/(m^2*K)", -1.0, "surface coefficient here (-1: unchanged)"),
+  };
+  return specs;
+}
+
+const ParamSpecs& plane_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::string("name", std::nullopt, "tool name (history columns <name>_force_z_N, ...)"),
+      ParamSpec::number("z", "m", std::nullopt, "initial height of the plane"),
+      ParamSpec::string("side", std::string("above"), "where the workpiece is", {"above", "below"}),
+      ParamSpec::number("radius", "m", 1.0, "extent of the plane (a disc about the z axis)", 0.0),
+      ParamSpec::number("velocity", "m/s", 0.0, "constant velocity along +z"),
+      ParamSpec::number("angular_velocity", "rad/s", 0.0, "rotation about the z axis"),
+  };
+  return specs;
+}
+
+const ParamSpecs& probe_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::string("name", std::nullopt, "probe name (history column prefix)"),
+      ParamSpec::array("point", "the particle nearest this point [x, y, z] (m) at t = 0 is followed", true),
+      ParamSpec::string("quantity", std::nullopt, "what to record",
+                        {"displacement_x", "displacement_y", "displacement_z", "velocity_x", "velocity_y",
+                         "velocity_z", "pressure", "stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz",
+                         "stress_xz", "temperature"}),
+  };
+  return specs;
+}
+
+struct Region {
+  std::string name;
+  long long body = -1;  // -1: any
+  Vec lo, hi;
+  bool prescribe_velocity = false;
+  Vec velocity = Vec::Zero();
+  double temperature = -1.0, convection = -1.0;
+  std::vector<std::size_t> particles;  // indices, refreshed when the id check fails
+  std::vector<std::int64_t> ids;
+};
+
+struct Probe {
+  std::string name, quantity;
+  Vec point;
+  std::int64_t id = -1;
+  std::size_t index = 0;
+  Vec initial_position = Vec::Zero();
+  double value = 0.0;
+  // For the period: upward crossings of the running mean.
+  std::vector<double> times, values;
+};
+
+class Generic final : public Process {
+ public:
+  explicit Generic(const ParamValues& p) : spacing_(p.number("particle_spacing")), jitter_(p.number("jitter")) {
+    seed_ = static_cast<unsigned>(p.integer("seed"));
+    const json& bodies = p.raw("bodies");
+    if (!bodies.is_array() || bodies.empty()) p.fail("bodies", "expected a non-empty array of bodies");
+    for (std::size_t b = 0; b < bodies.size(); ++b) bodies_.push_back(p.element("bodies", b, body_specs()));
+    if (given(p, "regions"))
+      for (std::size_t r = 0; r < p.raw("regions").size(); ++r) region_values_.push_back(p.element("regions", r, region_specs()));
+    if (given(p, "planes"))
+      for (std::size_t r = 0; r < p.raw("planes").size(); ++r) plane_values_.push_back(p.element("planes", r, plane_specs()));
+    if (given(p, "probes"))
+      for (std::size_t r = 0; r < p.raw("probes").size(); ++r) {
+        const ParamValues q = p.element("probes", r, probe_specs());
+        Probe probe;
+        probe.name = q.string("name");
+        probe.quantity = q.string("quantity");
+        probe.point = vector3(q, "point", "m");
+        probes_.push_back(probe);
+      }
+    period_start_ = p.number("period_start");
+  }
+
+  std::vector<FieldInfo> fields() const override { return {}; }
+
+  void build(SceneBuilder& scene) override {
+    std::mt19937_64 rng(seed_);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (const ParamValues& b : bodies_) {
+      BodySpec spec;
+      spec.name = b.string("name");
+      spec.spacing_m = spacing_;
+      spec.material = b.string("material");
+      spec.mechanics = b.boolean("mechanics");
+      spec.positions = lattice(b);
+      if (spec.positions.empty()) b.fail("shape", "the body holds no particle at this spacing");
+      // Jitter: each particle displaced by up to `jitter` spacings per axis (fixed seed).
+      if (jitter_ > 0.0)
+        for (Vec& x : spec.positions)
+          for (int d = 0; d < 3; ++d) x[d] += jitter_ * spacing_ * unit(rng);
+      spec.velocities = velocities(b, spec.positions);
+      const std::size_t index = scene.add_body(std::move(spec));
+      (void)index;
+    }
+    for (const ParamValues& q : plane_values_) {
+      const double z = q.number("z"), radius = q.number("radius");
+      // A disc in the (r, z) plane, walked so that the workpiece is on its left (tool.hpp).
+      std::vector<Eigen::Vector2d> profile = q.string("side") == "above"
+                                                 ? std::vector<Eigen::Vector2d>{{radius, 0.0}, {0.0, 0.0}}
+                                                 : std::vector<Eigen::Vector2d>{{0.0, 0.0}, {radius, 0.0}};
+      RigidTool tool(q.string("name"), profile);
+      tool.axial_offset_m = z;
+      tool.axial_velocity_m_s = q.number("velocity");
+      tool.angular_velocity_rad_s = q.number("angular_velocity");
+      scene.add_tool(std::move(tool));
+      plane_velocity_.push_back({q.number("velocity"), q.number("angular_velocity")});
+    }
+    for (const ParamValues& q : region_values_) {
+      Region r;
+      r.name = q.string("name");
+      const std::string body = q.string("body");
+      if (!body.empty()) {
+        auto it = std::find_if(bodies_.begin(), bodies_.end(), [&](const ParamValues& b) { return b.string("name") == body; });
+        if (it == bodies_.end()) q.fail("body", "no body named '" + body + "'");
+        r.body = it - bodies_.begin();
+      }
+      r.lo = vector3(q, "min", "m");
+      r.hi = vector3(q, "max", "m");
+      if (given(q, "velocity")) {
+        r.prescribe_velocity = true;
+        r.velocity = vector3(q, "velocity", "m/s");
+      }
+      r.temperature = q.number("temperature");
+      r.convection = q.number("convection_coefficient");
+      regions_.push_back(r);
+    }
+  }
+
+  void bind_signals(SignalBus&) override {}
+
+  void initialize(ProcessContext& ctx) override {
+    FieldRegistry& f = *ctx.fields;
+    const double* x = f.f64(field::position);
+    const std::int64_t* body = f.i64(field::body);
+    const std::int64_t* ids = f.i64(field::id);
+    const std::size_t n = f.size();
+    double* T = f.f64_if(field::temperature);
+    double* hc = f.f64_if(field::convection_coefficient);
+    for (std::size_t i = 0; i < n; ++i) {
+      const ParamValues& b = bodies_[static_cast<std::size_t>(body[i])];
+      if (T && b.number("temperature") >= 0.0) T[i] = b.number("temperature");
+      if (hc && b.number("convection_coefficient") >= 0.0) hc[i] = b.number("convection_coefficient");
+    }
+    for (Region& r : regions_) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (r.body >= 0 && body[i] != r.body) continue;
+        bool inside = true;
+        for (int d = 0; d < 3; ++d) inside = inside && x[3 * i + d] >= r.lo[d] && x[3 * i + d] <= r.hi[d];
+        if (!inside) continue;
+        r.particles.push_back(i);
+        r.ids.push_back(ids[i]);
+        if (T && r.temperature >= 0.0) T[i] = r.temperature;
+        if (hc && r.convection >= 0.0) hc[i] = r.convection;
+      }
+      if (r.particles.empty())
+        throw std::invalid_argument("generic: region '" + r.name + "' contains no particle");
+    }
+    for (Probe& p : probes_) {
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < n; ++i) {
+        const double d2 = (Vec(x[3 * i], x[3 * i + 1], x[3 * i + 2]) - p.point).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          p.index = i;
+        }
+      }
+      p.id = ids[p.index];
+      p.initial_position = Vec(x[3 * p.index], x[3 * p.index + 1], x[3 * p.index + 2]);
+      if (p.quantity == "temperature" && !T)
+        throw std::invalid_argument("generic: probe '" + p.name + "' records temperature in an isothermal case");
+    }
+  }
+
+  void before_step(ProcessContext&) override {}
+
+  void apply_constraints(ProcessContext& ctx) override {
+    FieldRegistry& f = *ctx.fields;
+    refresh(f);
+    double* v = f.f64_if(field::velocity);
+    double* a = f.f64_if(field::acceleration);
+    double* dT = f.f64_if(field::temperature_rate);
+    const double* T = f.f64_if(field::temperature);
+    for (const Region& r : regions_) {
+      for (std::size_t i : r.particles) {
+        if (r.prescribe_velocity && v && i < ctx.mechanical_count)
+          for (int d = 0; d < 3; ++d) {
+            v[3 * i + d] = r.velocity[d];
+            a[3 * i + d] = 0.0;
+          }
+        // Relax exactly onto the prescribed temperature within the step.
+        if (dT && r.temperature >= 0.0) dT[i] = ctx.dt_s > 0.0 ? (r.temperature - T[i]) / ctx.dt_s : 0.0;
+      }
+    }
+  }
+
+  void measure(ProcessContext& ctx) override {
+    FieldRegistry& f = *ctx.fields;
+    refresh(f);
+    const double* x = f.f64(field::position);
+    for (Probe& p : probes_) {
+      const std::size_t i = p.index;
+      const std::string& q = p.quantity;
+      if (q.rfind("displacement_", 0) == 0) {
+        const int d = q.back() - 'x';
+        p.value = x[3 * i + d] - p.initial_position[d];
+      } else if (q.rfind("velocity_", 0) == 0) {
+        p.value = f.f64(field::velocity)[3 * i + (q.back() - 'x')];
+      } else if (q == "temperature") {
+        p.value = f.f64(field::temperature)[i];
+      } else if (q == "pressure") {
+        p.value = f.f64(field::pressure)[i];
+      } else {  // stress_ab = S_ab - p delta_ab
+        static const std::vector<std::string> names = {"stress_xx", "stress_yy", "stress_zz",
+                                                       "stress_xy", "stress_yz", "stress_xz"};
+        const int c = static_cast<int>(std::find(names.begin(), names.end(), q) - names.begin());
+        p.value = f.f64(field::deviatoric_stress)[6 * i + c] - (c < 3 ? f.f64(field::pressure)[i] : 0.0);
+      }
+      if (ctx.time_s >= period_start_) {
+        p.times.push_back(ctx.time_s);
+        p.values.push_back(p.value);
+      }
+    }
+    // Linear and angular momentum (about the origin) of the mechanical particles.
+    if (ctx.mechanical_count > 0) {
+      const double* v = f.f64(field::velocity);
+      const double* m = f.f64(field::mass);
+      Vec P = Vec::Zero(), H = Vec::Zero();
+      for (std::size_t i = 0; i < ctx.mechanical_count; ++i) {
+        const Vec xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]), pi(m[i] * v[3 * i], m[i] * v[3 * i + 1], m[i] * v[3 * i + 2]);
+        P += pi;
+        H += xi.cross(pi);
+      }
+      for (int d = 0; d < 3; ++d) {
+        momentum_[d] = P[d];
+        angular_momentum_[d] = H[d];
+      }
+    }
+    for (std::size_t t = 0; t < plane_velocity_.size(); ++t) {
+      (*ctx.tools)[t].axial_velocity_m_s = plane_velocity_[t].first;
+      (*ctx.tools)[t].angular_velocity_rad_s = plane_velocity_[t].second;
+    }
+  }
+
+  std::vector<HistoryColumn> history_columns() const override {
+    std::vector<HistoryColumn> c;
+    for (const Probe& p : probes_) c.push_back({p.name + "_" + p.quantity + "_" + unit_of(p.quantity), &p.value});
+    const char* axes[3] = {"x", "y", "z"};
+    for (int d = 0; d < 3; ++d) c.push_back({std::string("momentum_") + axes[d] + "_kg_m_s", &momentum_[d]});
+    for (int d = 0; d < 3; ++d) c.push_back({std::string("angular_momentum_") + axes[d] + "_kg_m2_s", &angular_momentum_[d]});
+    return c;
+  }
+
+  nlohmann::json metrics() const override {
+    json m = json::object();
+    for (const Probe& p : probes_) {
+      const std::string key = p.name + "_" + p.quantity;
+      const std::string unit = unit_of(p.quantity);
+      m[key + "_final_" + unit] = p.value;
+      if (p.values.empty()) continue;
+      m[key + "_min_" + unit] = *std::min_element(p.values.begin(), p.values.end());
+      m[key + "_max_" + unit] = *std::max_element(p.values.begin(), p.values.end());
+      const double period = oscillation_period(p);
+      if (period > 0.0) m[key + "_period_s"] = period;
+    }
+    return m;
+  }
+
+ private:
+  static std::string unit_of(const std::string& q) {
+    if (q.rfind("displacement_", 0) == 0) return "m";
+    if (q.rfind("velocity_", 0) == 0) return "m_s";
+    if (q == "temperature") return "K";
+    return "Pa";
+  }
+
+  /// Mean period between upward crossings of the signal's mean (linear interpolation between
+  /// samples); 0 when fewer than two crossings were seen.
+  static double oscillation_period(const Probe& p) {
+    double mean = 0.0;
+    for (double v : p.values) mean += v;
+    mean /= static_cast<double>(p.values.size());
+    std::vector<double> crossings;
+    for (std::size_t k = 1; k < p.values.size(); ++k) {
+      const double a = p.values[k - 1] - mean, b = p.values[k] - mean;
+      if (a < 0.0 && b >= 0.0) crossings.push_back(p.times[k - 1] + (p.times[k] - p.times[k - 1]) * (-a) / (b - a));
+    }
+    if (crossings.size() < 2) return 0.0;
+    return (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  }
+
+  /// Regions and probes remember particle indices; when the core reorders particles (locality)
+  /// the ids no longer match and the indices are looked up again.
+  void refresh(FieldRegistry& f) {
+    const std::int64_t* ids = f.i64(field::id);
+    bool stale = false;
+    for (const Probe& p : probes_) stale = stale || ids[p.index] != p.id;
+    for (const Region& r : regions_) stale = stale || (!r.particles.empty() && ids[r.particles.front()] != r.ids.front());
+    if (!stale) return;
+    std::vector<std::size_t> index_of_id(f.size());
+    for (std::size_t i = 0; i < f.size(); ++i) index_of_id[static_cast<std::size_t>(ids[i])] = i;
+    for (Probe& p : probes_) p.index = index_of_id[static_cast<std::size_t>(p.id)];
+    for (Region& r : regions_)
+      for (std::size_t k = 0; k < r.particles.size(); ++k) r.particles[k] = index_of_id[static_cast<std::size_t>(r.ids[k])];
+  }
+
+  std::vector<Vec> lattice(const ParamValues& b) const {
+    std::vector<Vec> points;
+    const std::string shape = b.string("shape");
+    const double dx = spacing_;
+    if (shape == "box") {
+      if (!given(b, "min") || !given(b, "max")) b.fail("shape", "a box needs min and max");
+      const Vec lo = vector3(b, "min", "m"), hi = vector3(b, "max", "m");
+      int n[3];
+      for (int d = 0; d < 3; ++d) {
+        if (!(hi[d] > lo[d])) b.fail("max", "each component must exceed min's");
+        n[d] = std::max(1, static_cast<int>(std::lround((hi[d] - lo[d]) / dx)));
+      }
+      // Cell-centred lattice filling the box exactly when its edges are multiples of dx.
+      for (int k = 0; k < n[2]; ++k)
+        for (int j = 0; j < n[1]; ++j)
+          for (int i = 0; i < n[0]; ++i)
+            points.emplace_back(lo[0] + (i + 0.5) * dx, lo[1] + (j + 0.5) * dx, lo[2] + (k + 0.5) * dx);
+      return points;
+    }
+    if (!given(b, "center")) b.fail("shape", "a " + shape + " needs center");
+    const Vec c = vector3(b, "center", "m");
+    const double ro = b.number("radius"), ri = shape == "tube" ? b.number("inner_radius") : 0.0;
+    const double height = b.number("height");
+    if (!(ro > 0.0)) b.fail("radius", "must be positive");
+    if (!(height > 0.0)) b.fail("height", "must be positive");
+    if (shape == "tube" && !(ri < ro)) b.fail("inner_radius", "must be smaller than radius");
+    // Cubic lattice clipped to the annulus ri <= r <= ro (particle centres inside).
+    const int nr = static_cast<int>(std::ceil(ro / dx)) + 1;
+    const int nz = std::max(1, static_cast<int>(std::lround(height / dx)));
+    for (int k = 0; k < nz; ++k)
+      for (int j = -nr; j < nr; ++j)
+        for (int i = -nr; i < nr; ++i) {
+          const double px = (i + 0.5) * dx, py = (j + 0.5) * dx, r = std::hypot(px, py);
+          if (r <= ro && r >= ri) points.emplace_back(c[0] + px, c[1] + py, c[2] + (k + 0.5) * dx);
+        }
+    return points;
+  }
+
+  std::vector<Vec> velocities(const ParamValues& b, const std::vector<Vec>& x) const {
+    const bool translate = given(b, "velocity");
+    const bool rotate = given(b, "angular_velocity");
+    const bool mode = given(b, "velocity_profile");
+    if (!translate && !rotate && !mode) return {};
+    const Vec v0 = translate ? vector3(b, "velocity", "m/s") : Vec::Zero();
+    const Vec w = rotate ? vector3(b, "angular_velocity", "rad/s") : Vec::Zero();
+    const Vec c = rotate ? (given(b, "center") ? vector3(b, "center", "m") : Vec::Zero()) : Vec::Zero();
+    std::vector<Vec> v(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) v[i] = v0 + w.cross(x[i] - c);
+    if (mode) {
+      // First bending mode of a clamped-free beam along +x (Euler-Bernoulli, kL = 1.875104):
+      // phi(s) = (cos ks - cosh ks) - r (sin ks - sinh ks), r = (cos kL + cosh kL)/(sin kL + sinh kL),
+      // scaled to `amplitude` at the free end.
+      const ParamValues q = b.sub("velocity_profile", profile_specs());
+      const double root = q.number("axis_start"), length = q.number("length"), amplitude = q.number("amplitude");
+      const int dir = q.string("direction")[0] - 'x';
+      const double kL = 1.8751040687, k = kL / length;
+      const double ratio = (std::cos(kL) + std::cosh(kL)) / (std::sin(kL) + std::sinh(kL));
+      auto phi = [&](double s) { return (std::cos(k * s) - std::cosh(k * s)) - ratio * (std::sin(k * s) - std::sinh(k * s)); };
+      const double tip = phi(length);
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        const double s = std::clamp(x[i][0] - root, 0.0, length);
+        v[i][dir] += amplitude * phi(s) / tip;
+      }
+    }
+    return v;
+  }
+
+  double spacing_, jitter_;
+  unsigned seed_ = 1;
+  double period_start_ = 0.0;
+  std::vector<ParamValues> bodies_, region_values_, plane_values_;
+  std::vector<Region> regions_;
+  std::vector<Probe> probes_;
+  std::vector<std::pair<double, double>> plane_velocity_;
+  double momentum_[3] = {0, 0, 0}, angular_momentum_[3] = {0, 0, 0};
+};
+
+const PluginDescriptor& descriptor() {
+  static const PluginDescriptor d = make_plugin_descriptor<Generic>(
+      "generic", "0.1.0",
+      "bodies from primitives (box, cylinder, tube, disc) with initial motion, prescribed regions, rigid z-planes, probes",
+      {
+          ParamSpec::number("particle_spacing", "m", std::nullopt, "lattice spacing dx of every body", 1e-9),
+          ParamSpec::number("jitter", "1", 0.0, "random displacement of each particle, fraction of dx per axis", 0.0, 0.45),
+          ParamSpec::integer("seed", 1, "seed of the jitter (runs are reproducible)", 0),
+          ParamSpec::array("bodies", "the bodies: see docs/processes/generic.md", true),
+          ParamSpec::array("regions", "prescribed velocity / temperature / convection regions"),
+          ParamSpec::array("planes", "rigid planes normal to z (tools)"),
+          ParamSpec::array("probes", "particles followed and recorded in the history"),
+          ParamSpec::number("period_start", "s", 0.0, "probe samples before this time are ignored by the metrics", 0.0),
+      });
+  return d;
+}
+
+}  // namespace
+
+SPHFORGE_PLUGIN(descriptor)
