@@ -396,3 +396,20 @@ TEST_F(Bench, HelpDescribesBench) {
   EXPECT_EQ(misplaced.code, 2) << describe(misplaced);
   EXPECT_TRUE(contains(misplaced.err, "--spacing is an option of bench")) << describe(misplaced);
 }
+
+TEST_F(Bench, DefaultCaseAndOutputFolderNeverReuseAnEarlierBench) {
+  // Without CASE the bundled quick case runs; without --out the bench goes to runs/<case>-bench,
+  // then runs/<case>-bench-2 rather than touching the first.
+  const auto args = concat({"bench", "--spacing", kTwoSpacings, "--quiet"}, kSmall);
+  const Result first = run(args);
+  ASSERT_EQ(first.code, 0) << describe(first);
+  EXPECT_TRUE(first.out.empty()) << "--quiet: no table\n" << first.out;
+  const Result second = run(args);
+  ASSERT_EQ(second.code, 0) << describe(second);
+  for (const char* folder : {"paste_orifice_quick-bench", "paste_orifice_quick-bench-2"}) {
+    const fs::path dir = work() / "runs" / folder;
+    EXPECT_EQ(read_csv(dir / "bench.csv").rows.size(), 2u) << dir;
+    EXPECT_TRUE(fs::exists(dir / "bench.png")) << dir;
+    EXPECT_TRUE(fs::exists(dir / "runs" / "dx_1mm" / "summary.json")) << dir;
+  }
+}
