@@ -1,4 +1,4 @@
-// The sphforge command: run, check, plugins. Exit codes (DESIGN.md "Outputs"):
+// The sphforge command: run, check, bench, plugins. Exit codes (DESIGN.md "Outputs"):
 // 0 done, 1 other failure, 2 invalid input, 3 numerical instability.
 #include <omp.h>
 
@@ -6,9 +6,12 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "bench_command.hpp"
 #include "engine/simulation.hpp"
 #include "sphforge/errors.hpp"
 #include "sphforge/version.hpp"
@@ -28,6 +31,16 @@ void usage(std::ostream& out) {
       << "      run a case (default: the bundled " << kDefaultCase << ")\n"
       << "  sphforge check CASE [--set key.path=value]...\n"
       << "      validate a case, build its scene and list passes and fields, without running\n"
+      << "  sphforge bench [CASE] --spacing DX,DX,... [--parameter KEY] [--reference FILE] [--out DIR]\n"
+      << "                 [--set key.path=value]... [--force] [--quiet]\n"
+      << "      run time against error: runs the case once per particle spacing (\"0.5 mm,0.25 mm\" or\n"
+      << "      \"5e-4,2.5e-4\" in m), each as a child `sphforge run` into DIR/runs/dx_<spacing>, and writes\n"
+      << "      DIR/bench.csv (spacing, particles, steps, wall time, throughput, peak RSS, every numeric\n"
+      << "      metric and its relative error), bench.json and bench.png (error against wall time).\n"
+      << "      --parameter: the key set to each spacing (default process.particle_spacing; a JSON\n"
+      << "      pointer works too). --reference: {\"metrics\": {\"name\": value or \"value unit\"}};\n"
+      << "      without it, errors are against the finest spacing that finished. DIR defaults to\n"
+      << "      runs/<case>-bench. Exit 3 when every run was unstable. See docs/bench.md\n"
       << "  sphforge plugins [--json]\n"
       << "      list every plugin with its parameters (unit, default, range, doc)\n\n"
       << "exit codes: 0 done, 1 other error, 2 invalid input, 3 numerical instability\n";
@@ -48,11 +61,12 @@ struct Options {
   std::string out;
   std::vector<std::string> overrides;
   bool quiet = false, force = false, json = false;
+  std::optional<std::string> spacing, parameter, reference;  // bench only
 };
 
 Options parse(int argc, char** argv) {
   Options o;
-  if (argc < 2) throw InputError("", "", "no command given (run, check, plugins); see sphforge --help");
+  if (argc < 2) throw InputError("", "", "no command given (run, check, bench, plugins); see sphforge --help");
   o.command = argv[1];
   for (int k = 2; k < argc; ++k) {
     const std::string a = argv[k];
@@ -66,10 +80,18 @@ Options parse(int argc, char** argv) {
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (a == "--force") o.force = true;
     else if (a == "--json") o.json = true;
+    else if (a == "--spacing") o.spacing = value("--spacing");
+    else if (a == "--parameter") o.parameter = value("--parameter");
+    else if (a == "--reference") o.reference = value("--reference");
     else if (!a.empty() && a[0] == '-') throw InputError("", "", "unknown option '" + a + "'; see sphforge --help");
     else if (o.case_path.empty()) o.case_path = a;
     else throw InputError("", "", "unexpected argument '" + a + "'");
   }
+  if (o.command != "bench")
+    for (const auto& [name, given] : {std::pair{"--spacing", o.spacing.has_value()},
+                                      std::pair{"--parameter", o.parameter.has_value()},
+                                      std::pair{"--reference", o.reference.has_value()}})
+      if (given) throw InputError("", "", std::string(name) + " is an option of bench, not of " + o.command);
   return o;
 }
 
@@ -177,6 +199,20 @@ int run_case(const Options& o) {
   return kExitOk;
 }
 
+int bench(const Options& o) {
+  if (!o.spacing) throw InputError("", "--spacing", "bench needs --spacing, e.g. --spacing \"0.5 mm,0.25 mm\"");
+  cli::BenchOptions b;
+  b.case_path = o.case_path.empty() ? default_case().string() : o.case_path;
+  b.spacing_list = *o.spacing;
+  if (o.parameter) b.parameter = *o.parameter;
+  if (o.reference) b.reference = *o.reference;
+  b.out = o.out;
+  b.overrides = o.overrides;
+  b.force = o.force;
+  b.quiet = o.quiet;
+  return cli::run_bench(b);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -193,8 +229,9 @@ int main(int argc, char** argv) {
     Options o = argc < 2 ? Options{"run"} : parse(argc, argv);
     if (o.command == "run") return run_case(o);
     if (o.command == "check") return check_case(o);
+    if (o.command == "bench") return bench(o);
     if (o.command == "plugins") return list_plugins(o.json);
-    throw InputError("", "", "unknown command '" + o.command + "' (expected run, check or plugins)");
+    throw InputError("", "", "unknown command '" + o.command + "' (expected run, check, bench or plugins)");
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitInput;
