@@ -163,26 +163,26 @@ void jaumann_rotation(const double* L, double dt, double* S, std::size_t n) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double* l = L + 9 * i;
-    double w[3][3], s[3][3];
+    // Spin Omega = (L - L^T)/2 and the Hughes-Winget (Cayley) rotation over the step,
+    // Q = (I - dt/2 Omega)^-1 (I + dt/2 Omega)   (eq. 6): exactly orthogonal, so a rigidly
+    // rotating stress keeps its invariants to round-off, and S + dt (Omega S - S Omega) to
+    // second order.
+    Eigen::Matrix3d half_w;
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        w[a][b] = 0.5 * (l[3 * a + b] - l[3 * b + a]);
-        s[a][b] = S[6 * i + kSym[a][b]];
-      }
-    // Omega S - S Omega is symmetric when S is symmetric and Omega antisymmetric.
-    double r[3][3];
+      for (int b = 0; b < 3; ++b) half_w(a, b) = 0.25 * dt * (l[3 * a + b] - l[3 * b + a]);
+    const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d q = (identity - half_w).inverse() * (identity + half_w);
+    Eigen::Matrix3d s;
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        double acc = 0.0;
-        for (int k = 0; k < 3; ++k) acc += w[a][k] * s[k][b] - s[a][k] * w[k][b];
-        r[a][b] = acc;
-      }
-    S[6 * i + 0] += dt * r[0][0];
-    S[6 * i + 1] += dt * r[1][1];
-    S[6 * i + 2] += dt * r[2][2];
-    S[6 * i + 3] += dt * r[0][1];
-    S[6 * i + 4] += dt * r[1][2];
-    S[6 * i + 5] += dt * r[0][2];
+      for (int b = 0; b < 3; ++b) s(a, b) = S[6 * i + kSym[a][b]];
+    const Eigen::Matrix3d rotated = q * s * q.transpose();
+    S[6 * i + 0] = rotated(0, 0);
+    S[6 * i + 1] = rotated(1, 1);
+    S[6 * i + 2] = rotated(2, 2);
+    // Off-diagonal terms averaged: the product is symmetric up to round-off.
+    S[6 * i + 3] = 0.5 * (rotated(0, 1) + rotated(1, 0));
+    S[6 * i + 4] = 0.5 * (rotated(1, 2) + rotated(2, 1));
+    S[6 * i + 5] = 0.5 * (rotated(0, 2) + rotated(2, 0));
   }
 }
 

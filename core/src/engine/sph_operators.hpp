@@ -33,8 +33,9 @@ void stress_over_density_squared(const double* pressure, const double* deviatori
 /// Continuity equation: drho_i/dt = -rho_i tr(L_i)   (theory eq. 4)
 void continuity_density_rate(const double* L, const double* density, double* density_rate, std::size_t n);
 
-/// Objective (Jaumann) rotation of the deviatoric stress over dt:
-/// S <- S + dt (Omega S - S Omega), Omega = (L - L^T)/2   (theory eq. 6)
+/// Objective (Jaumann) rotation of the deviatoric stress over dt: S <- Q S Q^T with the
+/// Hughes-Winget rotation Q = (I - dt Omega/2)^-1 (I + dt Omega/2), Omega = (L - L^T)/2, which
+/// integrates dS/dt = Omega S - S Omega to second order and is exactly orthogonal (theory eq. 6)
 void jaumann_rotation(const double* L, double dt, double* deviatoric_stress, std::size_t n);
 
 struct ArtificialStress {
