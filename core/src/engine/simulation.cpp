@@ -797,6 +797,7 @@ std::vector<std::string> Simulation::history_header() const {
     h.push_back("dt_thermal_s");
     h.push_back("temperature_max_K");
     h.push_back("temperature_min_K");
+    h.push_back("temperature_mean_K");
   }
   for (const auto& t : tools_) {
     h.push_back(t.name() + "_force_x_N");
@@ -825,6 +826,14 @@ std::vector<double> Simulation::history_row() const {
     r.push_back(dt_thermal_);
     r.push_back(*hi);
     r.push_back(*lo);
+    // Mass-weighted mean over every particle (all bodies, thermal-only ones included).
+    const double* m = fields_.f64(field::mass);
+    double mt = 0.0, msum = 0.0;
+    for (std::size_t i = 0; i < count_; ++i) {
+      mt += m[i] * T[i];
+      msum += m[i];
+    }
+    r.push_back(mt / msum);
   }
   for (const auto& t : tools_) {
     r.push_back(t.reaction_force_N.x());

@@ -1,6 +1,7 @@
 // Material plugin `elastoplastic`: isotropic linear elasticity with von Mises (J2) plasticity,
 // perfectly plastic or with linear isotropic hardening, and a linear equation of state.
 // docs/theory.md, eqs. 15-17.
+#include <algorithm>
 #include <cmath>
 
 #include "sphforge/plugin.hpp"
@@ -16,7 +17,9 @@ class Elastoplastic final : public Material {
         E_(p.number("youngs_modulus")),
         nu_(p.number("poisson_ratio")),
         yield0_(p.number("yield_stress")),
-        hardening_(p.number("hardening_modulus")) {
+        hardening_(p.number("hardening_modulus")),
+        conductivity_(p.number("conductivity")),
+        specific_heat_(p.number("specific_heat")) {
     G_ = E_ / (2.0 * (1.0 + nu_));
     K_ = E_ / (3.0 * (1.0 - 2.0 * nu_));
   }
@@ -27,6 +30,11 @@ class Elastoplastic final : public Material {
   double reference_density() const override { return rho0_; }
   double wave_speed() const override { return std::sqrt((K_ + 4.0 * G_ / 3.0) / rho0_); }
   double shear_modulus() const override { return G_; }
+  bool conducts_heat() const override { return specific_heat_ > 0.0; }
+  void thermal_properties(ThermalBatch& b) const override {
+    std::fill(b.conductivity, b.conductivity + b.count, conductivity_);
+    std::fill(b.specific_heat, b.specific_heat + b.count, specific_heat_);
+  }
 
   void update_stress(MaterialBatch& b) override {
     double* eps_p = b.fields->f64(field::plastic_strain) + b.first;
@@ -69,7 +77,7 @@ class Elastoplastic final : public Material {
   }
 
  private:
-  double rho0_, E_, nu_, yield0_, hardening_, G_ = 0, K_ = 0;
+  double rho0_, E_, nu_, yield0_, hardening_, conductivity_, specific_heat_, G_ = 0, K_ = 0;
 };
 
 const PluginDescriptor& descriptor() {
@@ -82,6 +90,9 @@ const PluginDescriptor& descriptor() {
         ParamSpec::number("poisson_ratio", "1", std::nullopt, "Poisson's ratio nu", -0.999, 0.4999),
         ParamSpec::number("yield_stress", "Pa", std::nullopt, "initial yield stress sigma_y0", 0.0),
         ParamSpec::number("hardening_modulus", "Pa", 0.0, "linear isotropic hardening modulus H (0: perfectly plastic)", 0.0),
+        ParamSpec::number("conductivity", "W/(m*K)", 0.0, "thermal conductivity k (thermal cases)", 0.0),
+        ParamSpec::number("specific_heat", "J/(kg*K)", 0.0,
+                          "specific heat capacity c (thermal cases need it; 0: no thermal properties)", 0.0),
     });
   return d;
 }

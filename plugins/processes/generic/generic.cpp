@@ -51,11 +51,11 @@ bool given(const ParamValues& p, const std::string& name) {
 const ParamSpecs& body_specs() {
   static const ParamSpecs specs = {
       ParamSpec::string("name", std::nullopt, "body name (history columns, `body` field)"),
-      ParamSpec::string("shape", std::nullopt, "primitive", {"box", "cylinder", "tube", "disc"}),
+      ParamSpec::string("shape", std::nullopt, "primitive", {"box", "cylinder", "tube", "disc", "sphere"}),
       ParamSpec::array("min", "box: lower corner [x, y, z] (m)"),
       ParamSpec::array("max", "box: upper corner [x, y, z] (m)"),
-      ParamSpec::array("center", "cylinder/tube/disc: centre of the base [x, y, z] (m); axis along z"),
-      ParamSpec::number("radius", "m", 0.0, "cylinder/disc radius; tube outer radius", 0.0),
+      ParamSpec::array("center", "cylinder/tube/disc: centre of the base [x, y, z] (m), axis along z; sphere: centre"),
+      ParamSpec::number("radius", "m", 0.0, "cylinder/disc/sphere radius; tube outer radius", 0.0),
       ParamSpec::number("inner_radius", "m", 0.0, "tube inner radius", 0.0),
       ParamSpec::number("height", "m", 0.0, "cylinder/tube height, disc thickness (along z)", 0.0),
       ParamSpec::string("material", std::string(), "key in the case's \"materials\" (empty: \"material\")"),
@@ -417,8 +417,19 @@ class Generic final : public Process {
     if (!given(b, "center")) b.fail("shape", "a " + shape + " needs center");
     const Vec c = vector3(b, "center", "m");
     const double ro = b.number("radius"), ri = shape == "tube" ? b.number("inner_radius") : 0.0;
-    const double height = b.number("height");
     if (!(ro > 0.0)) b.fail("radius", "must be positive");
+    if (shape == "sphere") {
+      // Cubic lattice clipped to the ball (particle centres inside), centred on `center`.
+      const int nr = static_cast<int>(std::ceil(ro / dx)) + 1;
+      for (int k = -nr; k < nr; ++k)
+        for (int j = -nr; j < nr; ++j)
+          for (int i = -nr; i < nr; ++i) {
+            const Vec offset((i + 0.5) * dx, (j + 0.5) * dx, (k + 0.5) * dx);
+            if (offset.norm() <= ro) points.push_back(c + offset);
+          }
+      return points;
+    }
+    const double height = b.number("height");
     if (!(height > 0.0)) b.fail("height", "must be positive");
     if (shape == "tube" && !(ri < ro)) b.fail("inner_radius", "must be smaller than radius");
     // Cubic lattice clipped to the annulus ri <= r <= ro (particle centres inside).
