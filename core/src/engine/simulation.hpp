@@ -116,6 +116,10 @@ class Simulation {
   bool any_convection_ = false;
   double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
+  /// Kinetic energy the process's constraints (prescribed velocities) put in, summed over the steps:
+  /// part of the energy ledger of the instability check, like the tools' work.
+  double constraint_work_J_ = 0.0;
+  std::vector<double> constrained_scratch_;  ///< v + dt a before the constraints (3 per particle)
   double time_ = 0.0, dt_ = 0.0, dt_initial_ = 0.0, dt_cfl_ = 0.0, dt_contact_ = 0.0;
   long long step_ = 0;
   std::size_t contacts_ = 0;

@@ -1,12 +1,14 @@
 // Process plugin `generic`: scenes built from primitives, for verification problems and quick
-// experiments. Bodies (box, cylinder, tube, disc) with an initial velocity, rotation or a
-// cantilever mode shape; regions with prescribed velocity or temperature; rigid planes normal
-// to z moving at a constant speed; probes that follow one particle and write its displacement,
+// experiments. Bodies (box, cylinder, tube, disc) with an initial velocity, rotation, cantilever
+// mode shape or (deviatoric) stress; regions with prescribed velocity, rigid rotation or
+// temperature; rigid planes normal to z moving at a constant speed; probes that follow one particle and write its displacement,
 // velocity, stress or temperature to the history. Geometry conventions: docs/processes/generic.md.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -41,6 +43,30 @@ Vec vector3(const ParamValues& p, const std::string& name, const std::string& un
   return out;
 }
 
+/// Reads a symmetric tensor given as six numbers (SI) or quantity strings in `unit`, VTK order
+/// (xx, yy, zz, xy, yz, xz).
+std::array<double, 6> tensor6(const ParamValues& p, const std::string& name, const std::string& unit) {
+  const json& value = p.raw(name);
+  if (!value.is_array() || value.size() != 6)
+    p.fail(name, "expected an array of six values (xx, yy, zz, xy, yz, xz) in " + unit);
+  std::array<double, 6> out{};
+  for (std::size_t c = 0; c < 6; ++c) {
+    const json& e = value[c];
+    if (e.is_number()) {
+      out[c] = e.get<double>();
+    } else if (e.is_string()) {
+      try {
+        out[c] = parse_quantity(e.get<std::string>(), unit);
+      } catch (const std::invalid_argument& ex) {
+        p.fail(name, "component " + std::to_string(c) + ": " + ex.what());
+      }
+    } else {
+      p.fail(name, "component " + std::to_string(c) + ": expected a number or a \"value unit\" string");
+    }
+  }
+  return out;
+}
+
 /// True when an optional array or object parameter was given (absent ones default to empty).
 bool given(const ParamValues& p, const std::string& name) {
   if (!p.has(name)) return false;
@@ -64,6 +90,9 @@ const ParamSpecs& body_specs() {
       ParamSpec::array("angular_velocity", "initial rigid rotation [wx, wy, wz] (rad/s) about `center`"),
       ParamSpec::object("velocity_profile",
                         "initial cantilever first-mode velocity: {axis_start, length, amplitude, direction}"),
+      ParamSpec::array("initial_stress",
+                       "uniform initial Cauchy stress [xx, yy, zz, xy, yz, xz] (Pa); must be deviatoric (traceless): "
+                       "the equation of state takes the pressure from the density"),
       ParamSpec::number("temperature", "K", -1.0, "initial temperature (thermal cases; -1: thermal default)"),
       ParamSpec::number("convection_coefficient", "W/(m^2*K)", -1.0,
                         "heat transfer coefficient of this body's free surface (-1: thermal default)"),
@@ -88,6 +117,10 @@ const ParamSpecs& region_specs() {
       ParamSpec::array("min", "lower corner of the region's box [x, y, z] (m)", true),
       ParamSpec::array("max", "upper corner of the region's box [x, y, z] (m)", true),
       ParamSpec::array("velocity", "prescribed velocity [vx, vy, vz] (m/s); [0, 0, 0] clamps"),
+      ParamSpec::array("angular_velocity",
+                       "prescribed rigid rotation [wx, wy, wz] (rad/s) about `center` (added to `velocity`): the "
+                       "particles move exactly on their circles and see the exact spin as velocity gradient"),
+      ParamSpec::array("center", "centre of the prescribed rotation [x, y, z] (m; default the origin)"),
       ParamSpec::number("temperature", "K", -1.0, "prescribed temperature (-1: free)"),
       ParamSpec::number("convection_coefficient", "W/(m^2*K)", -1.0, "surface coefficient here (-1: unchanged)"),
   };
@@ -124,6 +157,8 @@ struct Region {
   Vec lo, hi;
   bool prescribe_velocity = false;
   Vec velocity = Vec::Zero();
+  bool rotate = false;
+  Vec omega = Vec::Zero(), center = Vec::Zero();
   double temperature = -1.0, convection = -1.0;
   std::vector<std::size_t> particles;  // indices, refreshed when the id check fails
   std::vector<std::int64_t> ids;
@@ -146,7 +181,23 @@ class Generic final : public Process {
     seed_ = static_cast<unsigned>(p.integer("seed"));
     const json& bodies = p.raw("bodies");
     if (!bodies.is_array() || bodies.empty()) p.fail("bodies", "expected a non-empty array of bodies");
-    for (std::size_t b = 0; b < bodies.size(); ++b) bodies_.push_back(p.element("bodies", b, body_specs()));
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      bodies_.push_back(p.element("bodies", b, body_specs()));
+      const ParamValues& body = bodies_.back();
+      std::optional<std::array<double, 6>> stress;
+      if (given(body, "initial_stress")) {
+        stress = tensor6(body, "initial_stress", "Pa");
+        const std::array<double, 6>& s = *stress;
+        const double trace = s[0] + s[1] + s[2];
+        double norm = 0.0;
+        for (int c = 0; c < 6; ++c) norm = std::max(norm, std::abs(s[c]));
+        // The material's equation of state computes the pressure from the density (theory eq. 17),
+        // so a mean stress given here would be lost at the first step.
+        if (std::abs(trace) > 1e-12 * norm)
+          body.fail("initial_stress", "must be deviatoric (xx + yy + zz = 0): the pressure follows from the density");
+      }
+      initial_stress_.push_back(stress);
+    }
     if (given(p, "regions"))
       for (std::size_t r = 0; r < p.raw("regions").size(); ++r) region_values_.push_back(p.element("regions", r, region_specs()));
     if (given(p, "planes"))
@@ -212,6 +263,12 @@ class Generic final : public Process {
         r.prescribe_velocity = true;
         r.velocity = vector3(q, "velocity", "m/s");
       }
+      if (given(q, "angular_velocity")) {
+        r.prescribe_velocity = true;
+        r.rotate = true;
+        r.omega = vector3(q, "angular_velocity", "rad/s");
+        if (given(q, "center")) r.center = vector3(q, "center", "m");
+      }
       r.temperature = q.number("temperature");
       r.convection = q.number("convection_coefficient");
       regions_.push_back(r);
@@ -228,10 +285,14 @@ class Generic final : public Process {
     const std::size_t n = f.size();
     double* T = f.f64_if(field::temperature);
     double* hc = f.f64_if(field::convection_coefficient);
+    double* S = f.f64_if(field::deviatoric_stress);
     for (std::size_t i = 0; i < n; ++i) {
       const ParamValues& b = bodies_[static_cast<std::size_t>(body[i])];
       if (T && b.number("temperature") >= 0.0) T[i] = b.number("temperature");
       if (hc && b.number("convection_coefficient") >= 0.0) hc[i] = b.number("convection_coefficient");
+      const auto& stress = initial_stress_[static_cast<std::size_t>(body[i])];
+      if (stress && S && i < ctx.mechanical_count)
+        for (int c = 0; c < 6; ++c) S[6 * i + c] = (*stress)[static_cast<std::size_t>(c)];
     }
     for (Region& r : regions_) {
       for (std::size_t i = 0; i < n; ++i) {
@@ -263,7 +324,26 @@ class Generic final : public Process {
     }
   }
 
-  void before_step(ProcessContext&) override {}
+  void before_step(ProcessContext& ctx) override {
+    // Prescribed rotation, part 1: the velocity the gradient pass sees is the exact rigid field
+    // v = v0 + w x (x^n - c) of the current positions, so L is the spin W exactly (D = 0 to
+    // round-off). With the lagged field of the last step, L(x^n, v^{n-1/2}) has a symmetric part
+    // of order dt |w|^2 that a rigid rotation does not have.
+    if (std::none_of(regions_.begin(), regions_.end(), [](const Region& r) { return r.rotate; })) return;
+    FieldRegistry& f = *ctx.fields;
+    refresh(f);
+    const double* x = f.f64(field::position);
+    double* v = f.f64_if(field::velocity);
+    if (!v) return;
+    for (const Region& r : regions_) {
+      if (!r.rotate) continue;
+      for (std::size_t i : r.particles) {
+        if (i >= ctx.mechanical_count) continue;
+        const Vec u = r.velocity + r.omega.cross(Vec(x[3 * i], x[3 * i + 1], x[3 * i + 2]) - r.center);
+        for (int d = 0; d < 3; ++d) v[3 * i + d] = u[d];
+      }
+    }
+  }
 
   void apply_constraints(ProcessContext& ctx) override {
     FieldRegistry& f = *ctx.fields;
@@ -272,13 +352,26 @@ class Generic final : public Process {
     double* a = f.f64_if(field::acceleration);
     double* dT = f.f64_if(field::temperature_rate);
     const double* T = f.f64_if(field::temperature);
+    const double* x = f.f64(field::position);
     for (const Region& r : regions_) {
+      // Prescribed rotation, part 2: the velocity that moves each particle over the step exactly
+      // onto its circle, x^{n+1} = c + v0 dt + R(w dt) (x^n - c): the chord (R - I)(x^n - c)/dt.
+      Eigen::Matrix3d chord = Eigen::Matrix3d::Zero();
+      if (r.rotate && ctx.dt_s > 0.0) {
+        const double angle = r.omega.norm() * ctx.dt_s;
+        if (angle > 0.0)
+          chord = (Eigen::AngleAxisd(angle, r.omega.normalized()).toRotationMatrix() - Eigen::Matrix3d::Identity()) /
+                  ctx.dt_s;
+      }
       for (std::size_t i : r.particles) {
-        if (r.prescribe_velocity && v && i < ctx.mechanical_count)
+        if (r.prescribe_velocity && v && i < ctx.mechanical_count) {
+          Vec u = r.velocity;
+          if (r.rotate) u += chord * (Vec(x[3 * i], x[3 * i + 1], x[3 * i + 2]) - r.center);
           for (int d = 0; d < 3; ++d) {
-            v[3 * i + d] = r.velocity[d];
+            v[3 * i + d] = u[d];
             a[3 * i + d] = 0.0;
           }
+        }
         // Relax exactly onto the prescribed temperature within the step.
         if (dT && r.temperature >= 0.0) dT[i] = ctx.dt_s > 0.0 ? (r.temperature - T[i]) / ctx.dt_s : 0.0;
       }
@@ -348,6 +441,10 @@ class Generic final : public Process {
       const std::string key = p.name + "_" + p.quantity;
       const std::string unit = unit_of(p.quantity);
       m[key + "_final_" + unit] = p.value;
+      // Where the followed particle started (the lattice point nearest the probe's point).
+      m[key + "_x0_m"] = p.initial_position[0];
+      m[key + "_y0_m"] = p.initial_position[1];
+      m[key + "_z0_m"] = p.initial_position[2];
       if (p.values.empty()) continue;
       m[key + "_min_" + unit] = *std::min_element(p.values.begin(), p.values.end());
       m[key + "_max_" + unit] = *std::max_element(p.values.begin(), p.values.end());
@@ -477,6 +574,7 @@ class Generic final : public Process {
   unsigned seed_ = 1;
   double period_start_ = 0.0;
   std::vector<ParamValues> bodies_, region_values_, plane_values_;
+  std::vector<std::optional<std::array<double, 6>>> initial_stress_;  // per body
   std::vector<Region> regions_;
   std::vector<Probe> probes_;
   std::vector<std::pair<double, double>> plane_velocity_;

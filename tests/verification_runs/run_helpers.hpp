@@ -1,0 +1,165 @@
+// Helpers of the verification runs: run the sphforge executable on a bundled case (with --set
+// overrides, one OpenMP thread, passive waiting), read its history.csv, summary.json and the
+// particle frames back.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+namespace sphforge_verification {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+inline const std::string kExe = SPHFORGE_EXECUTABLE;
+inline const fs::path kCases = fs::path(SPHFORGE_SOURCE_DIR) / "cases" / "verification";
+
+inline std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') out += "'\\''";
+    else out += c;
+  }
+  return out + "'";
+}
+
+inline std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+struct RunResult {
+  int code = -1;
+  std::string err;
+  fs::path out;
+};
+
+/// A fresh output folder under the test's working directory (the build tree).
+inline fs::path output_dir(const std::string& name) {
+  const fs::path dir = fs::current_path() / "verification_runs" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir.parent_path());
+  return dir;
+}
+
+/// `sphforge run CASE --out OUT --force --quiet --set ...` on one thread. OMP_NUM_THREADS=1 and
+/// OMP_WAIT_POLICY=PASSIVE: the tests share a small machine; results do not depend on either
+/// (neighbour lists and sums are in a fixed order).
+inline RunResult run_case(const std::string& case_file, const std::string& name, const std::vector<std::string>& sets) {
+  RunResult r;
+  r.out = output_dir(name);
+  std::string line = "env -u SPHFORGE_PLUGIN_PATH OMP_NUM_THREADS=1 OMP_WAIT_POLICY=PASSIVE " + shell_quote(kExe) +
+                     " run " + shell_quote((kCases / case_file).string()) + " --out " + shell_quote(r.out.string()) +
+                     " --force --quiet";
+  for (const std::string& s : sets) line += " --set " + shell_quote(s);
+  const fs::path err = r.out.string() + ".stderr.txt";
+  line += " >/dev/null 2>" + shell_quote(err.string());
+  const int status = std::system(line.c_str());
+  if (status != -1 && WIFEXITED(status)) r.code = WEXITSTATUS(status);
+  r.err = slurp(err);
+  return r;
+}
+
+/// history.csv as columns by name.
+struct History {
+  std::map<std::string, std::vector<double>> columns;
+  std::size_t rows = 0;
+  const std::vector<double>& operator[](const std::string& name) const {
+    auto it = columns.find(name);
+    if (it == columns.end()) throw std::runtime_error("history.csv has no column " + name);
+    return it->second;
+  }
+};
+
+inline History read_history(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error("cannot read " + file.string());
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream hs(line);
+  for (std::string name; std::getline(hs, name, ',');) names.push_back(name);
+  History h;
+  while (std::getline(in, line)) {
+    std::stringstream ls(line);
+    std::size_t c = 0;
+    for (std::string cell; std::getline(ls, cell, ',') && c < names.size(); ++c) h.columns[names[c]].push_back(std::stod(cell));
+    ++h.rows;
+  }
+  return h;
+}
+
+inline json read_summary(const fs::path& dir) { return json::parse(slurp(dir / "summary.json")); }
+
+/// One particle frame: point data arrays by name (all components, row-major) and the ids.
+struct Frame {
+  std::size_t count = 0;
+  std::map<std::string, std::vector<double>> arrays;
+  std::map<std::string, int> components;
+};
+
+inline Frame read_frame(const fs::path& vtu) {
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(vtu.string().c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  Frame f;
+  if (!grid) return f;
+  f.count = static_cast<std::size_t>(grid->GetNumberOfPoints());
+  vtkPointData* pd = grid->GetPointData();
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a) {
+    vtkDataArray* arr = pd->GetArray(a);
+    if (!arr || !arr->GetName()) continue;
+    const int nc = arr->GetNumberOfComponents();
+    std::vector<double> values(f.count * static_cast<std::size_t>(nc));
+    for (vtkIdType i = 0; i < static_cast<vtkIdType>(f.count); ++i)
+      for (int c = 0; c < nc; ++c) values[static_cast<std::size_t>(i) * nc + c] = arr->GetComponent(i, c);
+    f.arrays[arr->GetName()] = std::move(values);
+    f.components[arr->GetName()] = nc;
+  }
+  return f;
+}
+
+/// The frames of a run in time order (particles_NNNNNN.vtu).
+inline std::vector<fs::path> frames(const fs::path& dir) {
+  std::vector<fs::path> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().extension() == ".vtu" && e.path().filename().string().rfind("particles_", 0) == 0) out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// First time at which `values` reaches `level` from below, linearly interpolated; NaN if never.
+inline double first_crossing(const std::vector<double>& t, const std::vector<double>& values, double level) {
+  for (std::size_t k = 1; k < values.size(); ++k)
+    if (values[k - 1] < level && values[k] >= level)
+      return t[k - 1] + (t[k] - t[k - 1]) * (level - values[k - 1]) / (values[k] - values[k - 1]);
+  return std::nan("");
+}
+
+/// Appends `text` to a file in the build tree (results a test reports, for docs/verification.md).
+inline void record(const std::string& file, const std::string& text) {
+  std::ofstream out(fs::current_path() / file, std::ios::app);
+  out << text;
+}
+
+}  // namespace sphforge_verification
