@@ -90,6 +90,9 @@ class Process {
   /// After every rate of the step is known (acceleration including contact, temperature rate)
   /// and before the integration: prescribed velocities, fixed regions, fixed temperatures.
   virtual void apply_constraints(ProcessContext& /*ctx*/) {}
+  /// True when apply_constraints() may change particle velocities; the core then books the
+  /// kinetic energy they add in its energy ledger (a scene without constraints pays nothing).
+  virtual bool constrains_velocities() const { return false; }
   /// After each step: updates measured quantities from tool reactions and particles.
   virtual void measure(ProcessContext& ctx) = 0;
   /// True when the process has reached its own end (e.g. full ram stroke).

@@ -773,7 +773,7 @@ void Simulation::step() {
   // Prescribed velocities do work on the bodies (a piston pushing a bar); the energy ledger of
   // check_stability() counts it like the tools' work: the kinetic energy the constraints add to
   // the velocities the integrator would have given, sum m (|v_c|^2 - |v + dt a|^2) / 2.
-  const std::size_t nm = mechanical_count_;
+  const std::size_t nm = process_->constrains_velocities() ? mechanical_count_ : 0;
   const double* v = nm > 0 ? fields_.f64(field::velocity) : nullptr;
   const double* a = nm > 0 ? fields_.f64(field::acceleration) : nullptr;
   if (nm > 0) {

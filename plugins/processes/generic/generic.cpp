@@ -345,6 +345,10 @@ class Generic final : public Process {
     }
   }
 
+  bool constrains_velocities() const override {
+    return std::any_of(regions_.begin(), regions_.end(), [](const Region& r) { return r.prescribe_velocity || r.rotate; });
+  }
+
   void apply_constraints(ProcessContext& ctx) override {
     FieldRegistry& f = *ctx.fields;
     refresh(f);
