@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "backend.hpp"
+#include "engine/reorder.hpp"
 #include "io/output_writers.hpp"
 #include "sphforge/errors.hpp"
 #include "sphforge/version.hpp"
@@ -452,7 +453,13 @@ void Simulation::step() {
   process_->before_step(ctx);
   if (step_ == 0) initial_kinetic_energy_ = kinetic_energy();  // after the process set initial velocities
 
-  neighbours_.update(x, n, kernel_support_radius(h_), settings_.neighbour_skin * h_);
+  const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
+  if (neighbours_.needs_rebuild(x, n, search, skin)) {
+    // Memory locality: every few rebuilds, first sort the particles by cell (Morton order within
+    // each body; every registered field moves, and nothing else indexed by particle outlives a step).
+    if (neighbours_.builds() % kReorderEveryBuilds == 0) reorder_by_cell(fields_, bodies_, search + skin);
+    neighbours_.rebuild(x, n, search, skin);
+  }
   const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
   scratch_.resize((with_artificial_stress ? 12 : 6) * n);
   double* sigma_over_rho2 = scratch_.data();

@@ -60,6 +60,15 @@ class Simulation {
   const FieldRegistry& fields() const { return fields_; }
   const std::vector<PassInfo>& passes() const { return passes_; }
   const std::vector<RigidTool>& tools() const { return tools_; }
+  long long neighbour_builds() const { return neighbours_.builds(); }
+  /// Memory held for the particles: fields, neighbour lists, contact and pass scratch (bytes).
+  std::size_t memory_bytes() const {
+    return fields_.bytes() + neighbours_.bytes() + contact_.bytes() +
+           (scratch_.capacity() + yield_scratch_.capacity()) * sizeof(double);
+  }
+  /// The particles are reordered by cell (Morton order within each body, engine/reorder.hpp)
+  /// just before every this-many-th neighbour-list build, starting with the first.
+  static constexpr long long kReorderEveryBuilds = 8;
 
  private:
   class Builder;

@@ -1,5 +1,6 @@
 #include "engine/sph_operators.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -16,27 +17,75 @@ inline double power(double base, int n) {
 // Symmetric 6-component storage (xx yy zz xy yz xz) <-> 3x3 index.
 constexpr int kSym[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
 
+// Kernel gradient factor F = (dW/dr)/r and value W of one pair from r^2 (theory eqs. 1-2), without
+// branches: the pair loops then run straight through (which of the kernel's pieces a pair falls
+// in is unpredictable, and the lists include the Verlet skin, where both are 0). Same formulas
+// as kernels.hpp with the constants hoisted out of the loop.
+template <KernelKind K>
+struct PairKernel {
+  double inv_h, f_scale, w_scale;
+  explicit PairKernel(double h) : inv_h(1.0 / h) {
+    const double sigma = K == KernelKind::WendlandC2 ? wendland_c2_sigma(h) : cubic_spline_sigma(h);
+    f_scale = sigma / (h * h);
+    w_scale = sigma;
+  }
+  /// F(r), 0 beyond the support 2h.
+  double factor(double r2) const {
+    const double q = std::sqrt(r2) * inv_h;
+    if constexpr (K == KernelKind::WendlandC2) {
+      const double t = std::max(0.0, 1.0 - 0.5 * q);
+      return f_scale * (-5.0) * t * t * t;
+    } else {
+      const double t = std::max(0.0, 2.0 - q);
+      const double inner = -3.0 + 2.25 * q, outer = -0.75 * t * t / q;  // q = 0 only selects inner
+      return f_scale * (q < 1.0 ? inner : outer);
+    }
+  }
+  /// F(r) and W(r), both 0 beyond the support.
+  void factor_and_value(double r2, double& F, double& W) const {
+    const double q = std::sqrt(r2) * inv_h;
+    if constexpr (K == KernelKind::WendlandC2) {
+      const double t = std::max(0.0, 1.0 - 0.5 * q);
+      const double t3 = t * t * t;
+      F = f_scale * (-5.0) * t3;
+      W = w_scale * t3 * t * (2.0 * q + 1.0);
+    } else {
+      const double t = std::max(0.0, 2.0 - q);
+      const bool in = q < 1.0;
+      F = f_scale * (in ? -3.0 + 2.25 * q : -0.75 * t * t / q);
+      W = w_scale * (in ? 1.0 - 1.5 * q * q + 0.75 * q * q * q : 0.25 * t * t * t);
+    }
+  }
+};
+
 template <KernelKind K, bool Corrected>
 void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, const double* v,
                             const double* volume, double* L, std::size_t n, double* condition) {
-#pragma omp parallel for schedule(static)
+  const PairKernel<K> kernel(h);
+#pragma omp parallel for schedule(dynamic, 512)
   for (std::size_t i = 0; i < n; ++i) {
     double l[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    double mom[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // M_i = -sum_j V_j x_ij (x) grad_i W_ij (eq. 3a)
+    // M_i = -sum_j V_j x_ij (x) grad_i W_ij (eq. 3a), symmetric: xx yy zz xy yz xz
+    double mom6[6] = {0, 0, 0, 0, 0, 0};
     const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
     const double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-    for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
+    const std::uint32_t* const last = nl.end(i);
+    for (const std::uint32_t* p = nl.begin(i); p != last; ++p) {
       const std::size_t j = *p;
       const double xij[3] = {xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]};
-      const double r = std::sqrt(xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2]);
-      const double f = kernel_gradient_factor(K, r, h) * volume[j];  // V_j (dW/dr)/r
+      const double r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
+      const double f = kernel.factor(r2) * volume[j];  // V_j (dW/dr)/r; 0 beyond the support
       const double dv[3] = {(v[3 * j] - vi[0]) * f, (v[3 * j + 1] - vi[1]) * f, (v[3 * j + 2] - vi[2]) * f};
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) l[3 * a + b] += dv[a] * xij[b];
       if constexpr (Corrected) {
-        const double fx[3] = {-f * xij[0], -f * xij[1], -f * xij[2]};
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) mom[3 * a + b] += fx[a] * xij[b];
+        const double fx[3] = {f * xij[0], f * xij[1], f * xij[2]};
+        mom6[0] -= fx[0] * xij[0];
+        mom6[1] -= fx[1] * xij[1];
+        mom6[2] -= fx[2] * xij[2];
+        mom6[3] -= fx[0] * xij[1];
+        mom6[4] -= fx[1] * xij[2];
+        mom6[5] -= fx[0] * xij[2];
       }
     }
     if constexpr (Corrected) {
@@ -45,6 +94,9 @@ void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, 
       // regular neighbourhood), so its conditioning can be judged without units: where
       // det M < 0.05 or the inverse is large, too few neighbours span some direction and the
       // uncorrected gradient (M = I) is used instead.
+      double mom[9];
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) mom[3 * a + b] = mom6[kSym[a][b]];
       Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> G(l), M(mom);
       const double det = M.determinant();
       double cond = 0.0;
@@ -64,58 +116,57 @@ void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, 
   }
 }
 
-template <KernelKind K, bool WithArtificialStress>
+template <KernelKind K, bool WithArtificialStress, bool IntegerExponent>
 void momentum_rate_impl(const NeighbourList& nl, double h, const ArtificialViscosity& av, double c0,
                         const double* x, const double* v, const double* m, const double* rho,
                         const double* sigma_over_rho2, const ArtificialStress& as, const double* R, double* acc,
                         std::size_t n) {
+  const PairKernel<K> kernel(h);
   const double eta2h2 = av.eta * av.eta * h * h;
+  const double alpha_c = av.alpha * c0, beta = av.beta;
   const double inv_w_dx = WithArtificialStress ? 1.0 / as.w_dx : 0.0;
   // The usual exponents (n = 4) are integers: multiply instead of calling pow() per pair.
-  const int integer_exponent =
-      (as.exponent == std::floor(as.exponent) && as.exponent >= 1.0 && as.exponent <= 12.0) ? int(as.exponent) : 0;
-#pragma omp parallel for schedule(static)
+  const int integer_exponent = IntegerExponent ? int(as.exponent) : 0;
+#pragma omp parallel for schedule(dynamic, 512)
   for (std::size_t i = 0; i < n; ++i) {
     const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
     const double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-    const double* ti = sigma_over_rho2 + 6 * i;
+    const double rhoi = rho[i];
+    double ti[6], Ri[6];
+    for (int c = 0; c < 6; ++c) {
+      ti[c] = sigma_over_rho2[6 * i + c];
+      Ri[c] = WithArtificialStress ? R[6 * i + c] : 0.0;
+    }
     double a[3] = {0, 0, 0};
-    for (const std::uint32_t* q = nl.begin(i); q != nl.end(i); ++q) {
+    const std::uint32_t* const last = nl.end(i);
+    for (const std::uint32_t* q = nl.begin(i); q != last; ++q) {
       const std::size_t j = *q;
       const double xij[3] = {xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]};
       const double r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
-      const double gw = kernel_gradient_factor(K, std::sqrt(r2), h);  // grad_i W_ij = gw * x_ij
-      if (gw == 0.0) continue;  // outside the support (the list includes the Verlet skin)
+      // grad_i W_ij = gw * x_ij. Pairs in the Verlet skin (gw = 0) run through too and add an
+      // exact 0: cheaper than an unpredictable branch.
+      double gw, w;
+      if constexpr (WithArtificialStress) kernel.factor_and_value(r2, gw, w);
+      else gw = kernel.factor(r2);
       // sigma_i/rho_i^2 + sigma_j/rho_j^2, sigma = S - p I  (eq. 7)
       const double* tj = sigma_over_rho2 + 6 * j;
       double t[6];
       for (int c = 0; c < 6; ++c) t[c] = ti[c] + tj[c];
       if constexpr (WithArtificialStress) {
         // f_ij^n (R_i + R_j), f_ij = W(r_ij)/W(dx)  (eq. 9); R is zero for particles under no
-        // principal tension, so most pairs of a compressed body skip the kernel evaluation.
-        double rsum[6];
-        bool any = false;
-        for (int c = 0; c < 6; ++c) {
-          rsum[c] = R[6 * i + c] + R[6 * j + c];
-          any = any || rsum[c] != 0.0;
-        }
-        if (any) {
-          const double f = integer_exponent > 0
-                               ? power(kernel_value(K, std::sqrt(r2), h) * inv_w_dx, integer_exponent)
-                               : std::pow(kernel_value(K, std::sqrt(r2), h) * inv_w_dx, as.exponent);
-          for (int c = 0; c < 6; ++c) t[c] += f * rsum[c];
-        }
+        // principal tension, and then this adds an exact 0.
+        const double fw = w * inv_w_dx;
+        const double f = IntegerExponent ? power(fw, integer_exponent) : std::pow(fw, as.exponent);
+        for (int c = 0; c < 6; ++c) t[c] += f * (Ri[c] + R[6 * j + c]);
       }
       // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
       const double vij_xij = (vi[0] - v[3 * j]) * xij[0] + (vi[1] - v[3 * j + 1]) * xij[1] +
                              (vi[2] - v[3 * j + 2]) * xij[2];
-      if (vij_xij < 0.0) {
-        const double mu = h * vij_xij / (r2 + eta2h2);
-        const double Pi = (-av.alpha * c0 * mu + av.beta * mu * mu) / (0.5 * (rho[i] + rho[j]));
-        t[0] -= Pi;
-        t[1] -= Pi;
-        t[2] -= Pi;
-      }
+      const double mu = h * std::min(vij_xij, 0.0) / (r2 + eta2h2);
+      const double Pi = (-alpha_c * mu + beta * mu * mu) / (0.5 * (rhoi + rho[j]));
+      t[0] -= Pi;
+      t[1] -= Pi;
+      t[2] -= Pi;
       const double mg = m[j] * gw;
       for (int aa = 0; aa < 3; ++aa)
         a[aa] += mg * (t[kSym[aa][0]] * xij[0] + t[kSym[aa][1]] * xij[1] + t[kSym[aa][2]] * xij[2]);
@@ -186,26 +237,33 @@ void jaumann_rotation(const double* L, double dt, double* S, std::size_t n) {
   }
 }
 
+namespace {
+template <KernelKind K>
+void momentum_rate_kernel(const NeighbourList& nl, double h, const ArtificialViscosity& av, double c0,
+                          const double* x, const double* v, const double* m, const double* rho,
+                          const double* sigma_over_rho2, const ArtificialStress& as, const double* R, double* acc,
+                          std::size_t n) {
+  const bool stress = R != nullptr && as.epsilon > 0.0;
+  const bool integer_exponent = as.exponent == std::floor(as.exponent) && as.exponent >= 1.0 && as.exponent <= 12.0;
+  if (!stress)
+    momentum_rate_impl<K, false, true>(nl, h, av, c0, x, v, m, rho, sigma_over_rho2, as, R, acc, n);
+  else if (integer_exponent)
+    momentum_rate_impl<K, true, true>(nl, h, av, c0, x, v, m, rho, sigma_over_rho2, as, R, acc, n);
+  else
+    momentum_rate_impl<K, true, false>(nl, h, av, c0, x, v, m, rho, sigma_over_rho2, as, R, acc, n);
+}
+}  // namespace
+
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
                    const double* sigma_over_rho2, const ArtificialStress& as, const double* R,
                    double* acceleration, std::size_t n) {
-  const bool stress = R != nullptr && as.epsilon > 0.0;
-  if (kernel == KernelKind::WendlandC2) {
-    if (stress)
-      momentum_rate_impl<KernelKind::WendlandC2, true>(nl, h, av, sound_speed, x, v, mass, density, sigma_over_rho2,
-                                                       as, R, acceleration, n);
-    else
-      momentum_rate_impl<KernelKind::WendlandC2, false>(nl, h, av, sound_speed, x, v, mass, density,
-                                                        sigma_over_rho2, as, R, acceleration, n);
-  } else {
-    if (stress)
-      momentum_rate_impl<KernelKind::CubicSpline, true>(nl, h, av, sound_speed, x, v, mass, density,
-                                                        sigma_over_rho2, as, R, acceleration, n);
-    else
-      momentum_rate_impl<KernelKind::CubicSpline, false>(nl, h, av, sound_speed, x, v, mass, density,
-                                                         sigma_over_rho2, as, R, acceleration, n);
-  }
+  if (kernel == KernelKind::WendlandC2)
+    momentum_rate_kernel<KernelKind::WendlandC2>(nl, h, av, sound_speed, x, v, mass, density, sigma_over_rho2, as,
+                                                 R, acceleration, n);
+  else
+    momentum_rate_kernel<KernelKind::CubicSpline>(nl, h, av, sound_speed, x, v, mass, density, sigma_over_rho2, as,
+                                                  R, acceleration, n);
 }
 
 void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R, std::size_t n) {
