@@ -145,7 +145,12 @@ void NeighbourList::build(const double* x, std::size_t n, double radius) {
           // Cells x0..x1 of this row are one contiguous run of sorted_.
           const std::size_t row = static_cast<std::size_t>((z * dims[1] + y) * dims[0]);
           const std::uint32_t s0 = cell_start_[row + x0], s1 = cell_start_[row + x1 + 1];
-          if (used + (s1 - s0) > out.size()) out.resize(std::max<std::size_t>(used + (s1 - s0), out.size() + out.size() / 4 + 1024));
+          if (used + (s1 - s0) > out.size()) {
+            // Grow by 1/8 at a time (reserve first: resize() alone would double the capacity).
+            const std::size_t want = std::max<std::size_t>(used + (s1 - s0), out.size() + out.size() / 8 + 4096);
+            out.reserve(want);
+            out.resize(want);
+          }
           std::uint32_t* dst = out.data();
           const float* p = sorted_x_.data();
           for (std::uint32_t s = s0; s < s1; ++s) {

@@ -60,6 +60,7 @@ class Simulation {
   const FieldRegistry& fields() const { return fields_; }
   const std::vector<PassInfo>& passes() const { return passes_; }
   const std::vector<RigidTool>& tools() const { return tools_; }
+  const NeighbourList& neighbours() const { return neighbours_; }
   long long neighbour_builds() const { return neighbours_.builds(); }
   /// Memory held for the particles: fields, neighbour lists, contact and pass scratch (bytes).
   std::size_t memory_bytes() const {
