@@ -99,5 +99,12 @@ void check_patch(KernelKind kernel) {
 
 TEST(CorrectedGradientPatch, LinearVelocityExactOnJitteredBlockCubicSpline) { check_patch(KernelKind::CubicSpline); }
 TEST(CorrectedGradientPatch, LinearVelocityExactOnJitteredBlockWendlandC2) { check_patch(KernelKind::WendlandC2); }
+// The same with the generic (non-AVX2) pair loops, which CPUs without AVX2 run.
+TEST(CorrectedGradientPatch, LinearVelocityExactWithGenericPairLoops) {
+  const bool previous = allow_avx2_pair_loops(false);
+  check_patch(KernelKind::CubicSpline);
+  check_patch(KernelKind::WendlandC2);
+  allow_avx2_pair_loops(previous);
+}
 
 }  // namespace

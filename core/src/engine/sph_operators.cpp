@@ -1,6 +1,7 @@
 #include "engine/sph_operators.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -58,12 +59,12 @@ struct PairKernel {
 // at run time. The neighbour loops are written for `omp simd` (scalar accumulators, no branches),
 // so that with AVX2 they run four pairs per instruction; the summation order is then fixed by the
 // build and the CPU, never by the number of threads.
+std::atomic<bool> g_allow_avx2{true};
 #if defined(__GNUC__) && defined(__x86_64__)
-#define SPHFORGE_AVX2_DISPATCH 1
 #define SPHFORGE_TARGET_AVX2 __attribute__((target("avx2,fma")))
 bool cpu_has_avx2_fma() {
   static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return yes;
+  return yes && g_allow_avx2.load(std::memory_order_relaxed);
 }
 #else
 #define SPHFORGE_TARGET_AVX2
@@ -255,6 +256,8 @@ void momentum_rate_impl(const MomentumArgs& g) {
   else momentum_generic<K, Exponent>(g);
 }
 }  // namespace
+
+bool allow_avx2_pair_loops(bool allow) { return g_allow_avx2.exchange(allow); }
 
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
                        const double* volume, bool corrected, double* L, double* condition, std::size_t n) {
