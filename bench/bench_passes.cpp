@@ -60,6 +60,7 @@ void BM_NeighbourBuild(benchmark::State& state) {
   for (auto _ : state) b.nl.build(b.x.data(), b.n, 2.0 * b.h + 0.2 * b.h);
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
   state.counters["neighbours_per_particle"] = double(b.nl.pairs()) / double(b.n);
+  state.counters["list_bytes_per_particle"] = double(b.nl.bytes()) / double(b.n);
 }
 
 void BM_VelocityGradientCorrected(benchmark::State& state) {

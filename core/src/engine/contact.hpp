@@ -35,6 +35,15 @@ class PenaltyContact {
 
   /// Fraction of contacts that stuck in the last apply() (0 when none).
   double sticking_fraction() const { return sticking_fraction_; }
+  /// Memory held by the scratch arrays (bytes).
+  std::size_t bytes() const {
+    std::size_t total = (distance_.capacity() + normal_.capacity()) * sizeof(double) +
+                        particle_.capacity() * sizeof(std::size_t);
+    for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vt_, &batch_area_,
+                          &batch_yield_, &batch_ft_, &batch_stick_, &batch_vwall_})
+      total += b->capacity() * sizeof(double);
+    return total;
+  }
 
  private:
   ContactSettings settings_;

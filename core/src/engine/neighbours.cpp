@@ -7,49 +7,72 @@
 
 namespace sphforge {
 
-std::size_t NeighbourList::bytes() const {
-  return offsets_.capacity() * sizeof(std::size_t) + indices_.capacity() * sizeof(std::uint32_t) +
-         (cell_of_.capacity() + cell_start_.capacity() + sorted_.capacity() + neighbour_count_.capacity()) *
-             sizeof(std::uint32_t);
+std::size_t NeighbourList::pairs() const {
+  std::size_t total = 0;
+  for (const std::uint32_t used : chunk_used_) total += used;
+  return total;
 }
 
-bool NeighbourList::update(const double* x, std::size_t n, double radius, double skin) {
-  bool rebuild = skin <= 0.0 || n != count() || radius + skin != radius_at_build_;
-  if (!rebuild) {
-    const double limit2 = 0.25 * skin * skin;
-    int moved = 0;
+std::size_t NeighbourList::bytes() const {
+  std::size_t total = (end_.capacity() + chunk_used_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
+                       sorted_.capacity()) *
+                          sizeof(std::uint32_t) +
+                      base_.capacity() * sizeof(void*) + sorted_x_.capacity() * sizeof(float) +
+                      x_at_build_.capacity() * sizeof(double);
+  for (const auto& c : chunks_) total += c.capacity() * sizeof(std::uint32_t);
+  return total;
+}
+
+bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius, double skin) const {
+  if (skin <= 0.0 || n != count() || radius + skin != radius_at_build_) return true;
+  const double limit2 = 0.25 * skin * skin;
+  int moved = 0;
 #pragma omp parallel for reduction(max : moved) schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      const double dx = x[3 * i] - x_at_build_[3 * i], dy = x[3 * i + 1] - x_at_build_[3 * i + 1],
-                   dz = x[3 * i + 2] - x_at_build_[3 * i + 2];
-      // NaN compares false here; the stability check, not the neighbour search, reports it.
-      if (dx * dx + dy * dy + dz * dz > limit2) moved = 1;
-    }
-    rebuild = moved != 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dx = x[3 * i] - x_at_build_[3 * i], dy = x[3 * i + 1] - x_at_build_[3 * i + 1],
+                 dz = x[3 * i + 2] - x_at_build_[3 * i + 2];
+    // NaN compares false here; the stability check, not the neighbour search, reports it.
+    if (dx * dx + dy * dy + dz * dz > limit2) moved = 1;
   }
-  if (!rebuild) return false;
+  return moved != 0;
+}
+
+void NeighbourList::rebuild(const double* x, std::size_t n, double radius, double skin) {
   build(x, n, radius + skin);
   x_at_build_.assign(x, x + 3 * n);
   radius_at_build_ = radius + skin;
   ++builds_;
+}
+
+bool NeighbourList::update(const double* x, std::size_t n, double radius, double skin) {
+  if (!needs_rebuild(x, n, radius, skin)) return false;
+  rebuild(x, n, radius, skin);
   return true;
 }
 
 void NeighbourList::build(const double* x, std::size_t n, double radius) {
-  offsets_.assign(n + 1, 0);
-  if (n == 0) return;
   if (n > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("too many particles");
+  end_.resize(n);
+  const std::size_t nchunks = (n + kChunk - 1) / kChunk;
+  chunks_.resize(nchunks);
+  chunk_used_.assign(nchunks, 0);
+  base_.assign(nchunks, nullptr);
+  if (n == 0) return;
 
   double lo[3], hi[3];
-  for (int d = 0; d < 3; ++d) {
-    lo[d] = std::numeric_limits<double>::infinity();
-    hi[d] = -lo[d];
-  }
-  for (std::size_t i = 0; i < n; ++i)
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::min(lo[d], x[3 * i + d]);
-      hi[d] = std::max(hi[d], x[3 * i + d]);
+  {
+    double l0 = std::numeric_limits<double>::infinity(), l1 = l0, l2 = l0, h0 = -l0, h1 = -l0, h2 = -l0;
+#pragma omp parallel for reduction(min : l0, l1, l2) reduction(max : h0, h1, h2) schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      l0 = std::min(l0, x[3 * i]);
+      l1 = std::min(l1, x[3 * i + 1]);
+      l2 = std::min(l2, x[3 * i + 2]);
+      h0 = std::max(h0, x[3 * i]);
+      h1 = std::max(h1, x[3 * i + 1]);
+      h2 = std::max(h2, x[3 * i + 2]);
     }
+    lo[0] = l0, lo[1] = l1, lo[2] = l2, hi[0] = h0, hi[1] = h1, hi[2] = h2;
+  }
   // A cell grid over the bounding box; cells of edge `radius` so that all neighbours of a
   // particle lie in the 27 cells around it. Very elongated clouds (long extrudates) are capped
   // to keep the cell array small: a cell edge larger than the radius stays correct.
@@ -74,6 +97,7 @@ void NeighbourList::build(const double* x, std::size_t n, double radius) {
   cell_of_.resize(n);
   cell_start_.assign(ncells + 1, 0);
   sorted_.resize(n);
+  sorted_x_.resize(3 * n);
   auto cell_coord = [&](double v, int d) {
     return std::min<std::int64_t>(dims[d] - 1, static_cast<std::int64_t>((v - lo[d]) / edge[d]));
   };
@@ -83,47 +107,63 @@ void NeighbourList::build(const double* x, std::size_t n, double radius) {
                        cz = cell_coord(x[3 * i + 2], 2);
     cell_of_[i] = static_cast<std::uint32_t>((cz * dims[1] + cy) * dims[0] + cx);
   }
-  // Counting sort of particles by cell (stable: ascending index within a cell).
+  // Counting sort of particles by cell (stable: ascending index within a cell), with their
+  // positions copied next to each other so that a row of three cells is one contiguous run.
   for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_of_[i] + 1];
   for (std::size_t c = 0; c < ncells; ++c) cell_start_[c + 1] += cell_start_[c];
   {
-    std::vector<std::uint32_t>& fill = neighbour_count_;  // reused as a cursor array here
+    std::vector<std::uint32_t>& fill = end_;  // used as the cursor array here, overwritten below
     fill.assign(cell_start_.begin(), cell_start_.end() - 1);
+    fill.resize(std::max(n, ncells));
     for (std::size_t i = 0; i < n; ++i) sorted_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+    end_.resize(n);
   }
+#pragma omp parallel for schedule(static)
+  for (std::size_t s = 0; s < n; ++s)
+    for (int d = 0; d < 3; ++d) sorted_x_[3 * s + d] = static_cast<float>(x[3 * sorted_[s] + d] - lo[d]);
 
-  const double r2 = radius * radius;
-  // Visits the neighbours of i in a fixed order (cells by z, y, x; particles by index).
-  auto for_each_neighbour = [&](std::size_t i, auto&& visit) {
-    const std::uint32_t c = cell_of_[i];
-    const std::int64_t cx = c % dims[0], cy = (c / dims[0]) % dims[1], cz = c / (dims[0] * dims[1]);
-    const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2];
-    for (std::int64_t z = std::max<std::int64_t>(0, cz - 1); z <= std::min(dims[2] - 1, cz + 1); ++z)
-      for (std::int64_t y = std::max<std::int64_t>(0, cy - 1); y <= std::min(dims[1] - 1, cy + 1); ++y)
-        for (std::int64_t xx = std::max<std::int64_t>(0, cx - 1); xx <= std::min(dims[0] - 1, cx + 1); ++xx) {
-          const std::size_t cell = static_cast<std::size_t>((z * dims[1] + y) * dims[0] + xx);
-          for (std::uint32_t s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
+  // Single precision with a margin that keeps the lists a superset of the exact ones: rounding
+  // the offsets from the grid origin errs by at most 2^-24 of the extent per coordinate.
+  double extent = 0.0;
+  for (int d = 0; d < 3; ++d) extent = std::max(extent, hi[d] - lo[d]);
+  const double search = radius * (1.0 + 1e-5) + 1e-6 * extent;
+  const float r2 = static_cast<float>(search * search);
+
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t c = 0; c < nchunks; ++c) {
+    std::vector<std::uint32_t>& out = chunks_[c];
+    std::size_t used = 0;
+    const std::size_t first = c * kChunk, last = std::min(n, first + kChunk);
+    for (std::size_t i = first; i < last; ++i) {
+      const std::uint32_t cell = cell_of_[i];
+      const std::int64_t cx = cell % dims[0], cy = (cell / dims[0]) % dims[1], cz = cell / (dims[0] * dims[1]);
+      const float xi = static_cast<float>(x[3 * i] - lo[0]), yi = static_cast<float>(x[3 * i + 1] - lo[1]),
+                  zi = static_cast<float>(x[3 * i + 2] - lo[2]);
+      const std::int64_t x0 = std::max<std::int64_t>(0, cx - 1), x1 = std::min(dims[0] - 1, cx + 1);
+      for (std::int64_t z = std::max<std::int64_t>(0, cz - 1); z <= std::min(dims[2] - 1, cz + 1); ++z)
+        for (std::int64_t y = std::max<std::int64_t>(0, cy - 1); y <= std::min(dims[1] - 1, cy + 1); ++y) {
+          // Cells x0..x1 of this row are one contiguous run of sorted_.
+          const std::size_t row = static_cast<std::size_t>((z * dims[1] + y) * dims[0]);
+          const std::uint32_t s0 = cell_start_[row + x0], s1 = cell_start_[row + x1 + 1];
+          if (used + (s1 - s0) > out.size()) {
+            // Grow by 1/8 at a time (reserve first: resize() alone would double the capacity).
+            const std::size_t want = std::max<std::size_t>(used + (s1 - s0), out.size() + out.size() / 8 + 4096);
+            out.reserve(want);
+            out.resize(want);
+          }
+          std::uint32_t* dst = out.data();
+          const float* p = sorted_x_.data();
+          for (std::uint32_t s = s0; s < s1; ++s) {
+            const float dx = xi - p[3 * s], dy = yi - p[3 * s + 1], dz = zi - p[3 * s + 2];
             const std::uint32_t j = sorted_[s];
-            if (j == i) continue;
-            const double dx = xi - x[3 * j], dy = yi - x[3 * j + 1], dz = zi - x[3 * j + 2];
-            if (dx * dx + dy * dy + dz * dz < r2) visit(j);
+            dst[used] = j;  // branch-free: kept only when close enough and not i itself
+            used += (dx * dx + dy * dy + dz * dz < r2) & (j != i);
           }
         }
-  };
-
-  neighbour_count_.resize(n);
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t k = 0;
-    for_each_neighbour(i, [&](std::uint32_t) { ++k; });
-    neighbour_count_[i] = k;
-  }
-  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + neighbour_count_[i];
-  indices_.resize(offsets_[n]);
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t* out = indices_.data() + offsets_[i];
-    for_each_neighbour(i, [&](std::uint32_t j) { *out++ = j; });
+      end_[i] = static_cast<std::uint32_t>(used);
+    }
+    chunk_used_[c] = static_cast<std::uint32_t>(used);
+    base_[c] = out.data();
   }
 }
 

@@ -12,6 +12,7 @@
 #include "backend.hpp"
 #include "engine/energy.hpp"
 #include "engine/heat_conduction.hpp"
+#include "engine/reorder.hpp"
 #include "engine/xsph.hpp"
 #include "io/output_writers.hpp"
 #include "sphforge/errors.hpp"
@@ -626,7 +627,14 @@ void Simulation::mechanics_rates() {
   double* T = fields_.f64_if(field::temperature);
   double* heat_source = fields_.f64_if(field::heat_source);
 
-  neighbours_.update(x, n, kernel_support_radius(h_), settings_.neighbour_skin * h_);
+  const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
+  if (neighbours_.needs_rebuild(x, n, search, skin)) {
+    // Memory locality: every few rebuilds, first sort the particles by cell (Morton order within
+    // each body; every registered field moves, and nothing else indexed by particle outlives a step).
+    if (neighbours_.builds() % kReorderEveryBuilds == 0 && reorder_by_cell(fields_, bodies_, search + skin))
+      thermal_lists_stale_ = true;  // thermal-only particles moved in the arrays too
+    neighbours_.rebuild(x, n, search, skin);
+  }
   const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
   scratch_.resize((with_artificial_stress ? 12 : 6) * n);
   double* sigma_over_rho2 = scratch_.data();
@@ -697,7 +705,10 @@ void Simulation::thermal_rates() {
   // (they were just updated); thermal-only bodies need lists of their own.
   const NeighbourList* nl = &neighbours_;
   if (mechanical_count_ < n) {
-    thermal_neighbours_.update(x, n, kernel_support_radius(h_), settings_.neighbour_skin * h_);
+    const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
+    if (thermal_lists_stale_ || thermal_neighbours_.needs_rebuild(x, n, search, skin))
+      thermal_neighbours_.rebuild(x, n, search, skin);
+    thermal_lists_stale_ = false;
     nl = &thermal_neighbours_;
   }
   double* volume = thermal_volume_.data();

@@ -69,6 +69,16 @@ class Simulation {
   const FieldRegistry& fields() const { return fields_; }
   const std::vector<PassInfo>& passes() const { return passes_; }
   const std::vector<RigidTool>& tools() const { return tools_; }
+  const NeighbourList& neighbours() const { return neighbours_; }
+  long long neighbour_builds() const { return neighbours_.builds(); }
+  /// Memory held for the particles: fields, neighbour lists, contact and pass scratch (bytes).
+  std::size_t memory_bytes() const {
+    return fields_.bytes() + neighbours_.bytes() + contact_.bytes() +
+           (scratch_.capacity() + yield_scratch_.capacity()) * sizeof(double);
+  }
+  /// The particles are reordered by cell (Morton order within each body, engine/reorder.hpp)
+  /// just before every this-many-th neighbour-list build, starting with the first.
+  static constexpr long long kReorderEveryBuilds = 8;
 
  private:
   class Builder;
@@ -114,6 +124,7 @@ class Simulation {
   std::vector<double> xsph_scratch_;
   double internal_energy_ = 0.0, dt_thermal_ = 0.0;
   bool any_convection_ = false;
+  bool thermal_lists_stale_ = false;  ///< a reorder permuted the particles behind the thermal lists
   double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
   /// Kinetic energy the process's constraints (prescribed velocities) put in, summed over the steps:

@@ -1,5 +1,7 @@
 #include "engine/sph_operators.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -7,125 +9,255 @@
 namespace sphforge {
 
 namespace {
-inline double power(double base, int n) {
-  double r = base;
-  for (int k = 1; k < n; ++k) r *= base;
-  return r;
-}
-
+#define SPHFORGE_PAIR_INLINE __attribute__((always_inline)) inline
 // Symmetric 6-component storage (xx yy zz xy yz xz) <-> 3x3 index.
 constexpr int kSym[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+
+// Kernel gradient factor F = (dW/dr)/r and value W of one pair from r^2 (theory eqs. 1-2), without
+// branches: the pair loops then run straight through (which of the kernel's pieces a pair falls
+// in is unpredictable, and the lists include the Verlet skin, where both are 0). Same formulas
+// as kernels.hpp with the constants hoisted out of the loop.
+template <KernelKind K>
+struct PairKernel {
+  double inv_h, f_scale, w_scale;
+  explicit PairKernel(double h) : inv_h(1.0 / h) {
+    const double sigma = K == KernelKind::WendlandC2 ? wendland_c2_sigma(h) : cubic_spline_sigma(h);
+    f_scale = sigma / (h * h);
+    w_scale = sigma;
+  }
+  /// F(r), 0 beyond the support 2h.
+  SPHFORGE_PAIR_INLINE double factor(double r2) const {
+    const double q = std::sqrt(r2) * inv_h;
+    if constexpr (K == KernelKind::WendlandC2) {
+      const double t = std::max(0.0, 1.0 - 0.5 * q);
+      return f_scale * (-5.0) * t * t * t;
+    } else {
+      const double t = std::max(0.0, 2.0 - q);
+      const double inner = -3.0 + 2.25 * q, outer = -0.75 * t * t / q;  // q = 0 only selects inner
+      return f_scale * (q < 1.0 ? inner : outer);
+    }
+  }
+  /// F(r) and W(r), both 0 beyond the support.
+  SPHFORGE_PAIR_INLINE void factor_and_value(double r2, double& F, double& W) const {
+    const double q = std::sqrt(r2) * inv_h;
+    if constexpr (K == KernelKind::WendlandC2) {
+      const double t = std::max(0.0, 1.0 - 0.5 * q);
+      const double t3 = t * t * t;
+      F = f_scale * (-5.0) * t3;
+      W = w_scale * t3 * t * (2.0 * q + 1.0);
+    } else {
+      const double t = std::max(0.0, 2.0 - q);
+      const bool in = q < 1.0;
+      F = f_scale * (in ? -3.0 + 2.25 * q : -0.75 * t * t / q);
+      W = w_scale * (in ? 1.0 - 1.5 * q * q + 0.75 * q * q * q : 0.25 * t * t * t);
+    }
+  }
+};
+
+// Each pair pass is a per-particle function (always inlined) and two drivers running it over all
+// particles: a generic one and, on x86-64 CPUs that have them, one compiled for AVX2 + FMA, chosen
+// at run time. The neighbour loops are written for `omp simd` (scalar accumulators, no branches),
+// so that with AVX2 they run four pairs per instruction; the summation order is then fixed by the
+// build and the CPU, never by the number of threads.
+std::atomic<bool> g_allow_avx2{true};
+#if defined(__GNUC__) && defined(__x86_64__)
+#define SPHFORGE_TARGET_AVX2 __attribute__((target("avx2,fma")))
+bool cpu_has_avx2_fma() {
+  static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return yes && g_allow_avx2.load(std::memory_order_relaxed);
+}
+#else
+#define SPHFORGE_TARGET_AVX2
+bool cpu_has_avx2_fma() { return false; }
+#endif
+#define SPHFORGE_ALWAYS_INLINE __attribute__((always_inline)) inline
+
+struct GradientArgs {
+  const NeighbourList* nl;
+  const double *x, *v, *volume;
+  double *L, *condition;
+  std::size_t n;
+};
+
+template <KernelKind K, bool Corrected>
+SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, const PairKernel<K>& kernel,
+                                                       std::size_t i) {
+  const double* x = g.x;
+  const double* v = g.v;
+  const double* volume = g.volume;
+  // Scalar accumulators, so that the neighbour loop vectorises (omp simd reduction).
+  double l0 = 0, l1 = 0, l2 = 0, l3 = 0, l4 = 0, l5 = 0, l6 = 0, l7 = 0, l8 = 0;
+  // M_i = -sum_j V_j x_ij (x) grad_i W_ij (eq. 3a), symmetric: xx yy zz xy yz xz
+  double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, m5 = 0;
+  const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
+  const double vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
+  const std::uint32_t* const nb = g.nl->begin(i);
+  const std::ptrdiff_t count = g.nl->end(i) - nb;
+#pragma omp simd reduction(+ : l0, l1, l2, l3, l4, l5, l6, l7, l8, m0, m1, m2, m3, m4, m5)
+  for (std::ptrdiff_t k = 0; k < count; ++k) {
+    const std::size_t j = nb[k];
+    const double x0 = xi0 - x[3 * j], x1 = xi1 - x[3 * j + 1], x2 = xi2 - x[3 * j + 2];
+    const double r2 = x0 * x0 + x1 * x1 + x2 * x2;
+    const double f = kernel.factor(r2) * volume[j];  // V_j (dW/dr)/r; 0 beyond the support
+    const double d0 = (v[3 * j] - vi0) * f, d1 = (v[3 * j + 1] - vi1) * f, d2 = (v[3 * j + 2] - vi2) * f;
+    l0 += d0 * x0, l1 += d0 * x1, l2 += d0 * x2;
+    l3 += d1 * x0, l4 += d1 * x1, l5 += d1 * x2;
+    l6 += d2 * x0, l7 += d2 * x1, l8 += d2 * x2;
+    if constexpr (Corrected) {
+      const double f0 = f * x0, f1 = f * x1, f2 = f * x2;
+      m0 -= f0 * x0, m1 -= f1 * x1, m2 -= f2 * x2;
+      m3 -= f0 * x1, m4 -= f1 * x2, m5 -= f0 * x2;
+    }
+  }
+  double l[9] = {l0, l1, l2, l3, l4, l5, l6, l7, l8};
+  double* out = g.L + 9 * i;
+  if constexpr (Corrected) {
+    // Corrected gradient L = G M^-1 (eq. 3b), exact for linear fields also where the
+    // neighbourhood is truncated (walls, free surfaces). M is dimensionless (I on a full,
+    // regular neighbourhood), so its conditioning can be judged without units: where
+    // det M < 0.05 or the inverse is large, too few neighbours span some direction and the
+    // uncorrected gradient (M = I) is used instead.
+    const double mom6[6] = {m0, m1, m2, m3, m4, m5};
+    double mom[9];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) mom[3 * a + b] = mom6[kSym[a][b]];
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> G(l), M(mom);
+    const double det = M.determinant();
+    if (det > 0.05) {
+      const Eigen::Matrix3d Minv = M.inverse();
+      const double cond = M.norm() * Minv.norm();
+      if (cond < 50.0) {
+        const Eigen::Matrix3d corrected = G * Minv;
+        Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> result(out);
+        result = corrected;
+        if (g.condition) g.condition[i] = cond;
+        return;
+      }
+    }
+    if (g.condition) g.condition[i] = -1.0;  // fallback used
+  }
+  for (int c = 0; c < 9; ++c) out[c] = l[c];
+}
+
+template <KernelKind K, bool Corrected>
+void velocity_gradient_generic(const GradientArgs& g, double h) {
+  const PairKernel<K> kernel(h);
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::size_t i = 0; i < g.n; ++i) velocity_gradient_particle<K, Corrected>(g, kernel, i);
+}
+
+template <KernelKind K, bool Corrected>
+SPHFORGE_TARGET_AVX2 void velocity_gradient_avx2(const GradientArgs& g, double h) {
+  const PairKernel<K> kernel(h);
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::size_t i = 0; i < g.n; ++i) velocity_gradient_particle<K, Corrected>(g, kernel, i);
+}
 
 template <KernelKind K, bool Corrected>
 void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, const double* v,
                             const double* volume, double* L, std::size_t n, double* condition) {
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    double l[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    double mom[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // M_i = -sum_j V_j x_ij (x) grad_i W_ij (eq. 3a)
-    const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
-    const double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-    for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
-      const std::size_t j = *p;
-      const double xij[3] = {xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]};
-      const double r = std::sqrt(xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2]);
-      const double f = kernel_gradient_factor(K, r, h) * volume[j];  // V_j (dW/dr)/r
-      const double dv[3] = {(v[3 * j] - vi[0]) * f, (v[3 * j + 1] - vi[1]) * f, (v[3 * j + 2] - vi[2]) * f};
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) l[3 * a + b] += dv[a] * xij[b];
-      if constexpr (Corrected) {
-        const double fx[3] = {-f * xij[0], -f * xij[1], -f * xij[2]};
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) mom[3 * a + b] += fx[a] * xij[b];
-      }
-    }
-    if constexpr (Corrected) {
-      // Corrected gradient L = G M^-1 (eq. 3b), exact for linear fields also where the
-      // neighbourhood is truncated (walls, free surfaces). M is dimensionless (I on a full,
-      // regular neighbourhood), so its conditioning can be judged without units: where
-      // det M < 0.05 or the inverse is large, too few neighbours span some direction and the
-      // uncorrected gradient (M = I) is used instead.
-      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> G(l), M(mom);
-      const double det = M.determinant();
-      double cond = 0.0;
-      if (det > 0.05) {
-        const Eigen::Matrix3d Minv = M.inverse();
-        cond = M.norm() * Minv.norm();
-        if (cond < 50.0) {
-          const Eigen::Matrix3d corrected = G * Minv;
-          Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(L + 9 * i) = corrected;
-          if (condition) condition[i] = cond;
-          continue;
-        }
-      }
-      if (condition) condition[i] = -1.0;  // fallback used
-    }
-    for (int c = 0; c < 9; ++c) L[9 * i + c] = l[c];
-  }
+  const GradientArgs g{&nl, x, v, volume, L, condition, n};
+  if (cpu_has_avx2_fma()) velocity_gradient_avx2<K, Corrected>(g, h);
+  else velocity_gradient_generic<K, Corrected>(g, h);
 }
 
-template <KernelKind K, bool WithArtificialStress>
-void momentum_rate_impl(const NeighbourList& nl, double h, const ArtificialViscosity& av, double c0,
-                        const double* x, const double* v, const double* m, const double* rho,
-                        const double* sigma_over_rho2, const ArtificialStress& as, const double* R, double* acc,
-                        std::size_t n) {
-  const double eta2h2 = av.eta * av.eta * h * h;
-  const double inv_w_dx = WithArtificialStress ? 1.0 / as.w_dx : 0.0;
-  // The usual exponents (n = 4) are integers: multiply instead of calling pow() per pair.
-  const int integer_exponent =
-      (as.exponent == std::floor(as.exponent) && as.exponent >= 1.0 && as.exponent <= 12.0) ? int(as.exponent) : 0;
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
-    const double vi[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
-    const double* ti = sigma_over_rho2 + 6 * i;
-    double a[3] = {0, 0, 0};
-    for (const std::uint32_t* q = nl.begin(i); q != nl.end(i); ++q) {
-      const std::size_t j = *q;
-      const double xij[3] = {xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]};
-      const double r2 = xij[0] * xij[0] + xij[1] * xij[1] + xij[2] * xij[2];
-      const double gw = kernel_gradient_factor(K, std::sqrt(r2), h);  // grad_i W_ij = gw * x_ij
-      if (gw == 0.0) continue;  // outside the support (the list includes the Verlet skin)
-      // sigma_i/rho_i^2 + sigma_j/rho_j^2, sigma = S - p I  (eq. 7)
-      const double* tj = sigma_over_rho2 + 6 * j;
-      double t[6];
-      for (int c = 0; c < 6; ++c) t[c] = ti[c] + tj[c];
-      if constexpr (WithArtificialStress) {
-        // f_ij^n (R_i + R_j), f_ij = W(r_ij)/W(dx)  (eq. 9); R is zero for particles under no
-        // principal tension, so most pairs of a compressed body skip the kernel evaluation.
-        double rsum[6];
-        bool any = false;
-        for (int c = 0; c < 6; ++c) {
-          rsum[c] = R[6 * i + c] + R[6 * j + c];
-          any = any || rsum[c] != 0.0;
-        }
-        if (any) {
-          const double f = integer_exponent > 0
-                               ? power(kernel_value(K, std::sqrt(r2), h) * inv_w_dx, integer_exponent)
-                               : std::pow(kernel_value(K, std::sqrt(r2), h) * inv_w_dx, as.exponent);
-          for (int c = 0; c < 6; ++c) t[c] += f * rsum[c];
-        }
-      }
-      // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
-      const double vij_xij = (vi[0] - v[3 * j]) * xij[0] + (vi[1] - v[3 * j + 1]) * xij[1] +
-                             (vi[2] - v[3 * j + 2]) * xij[2];
-      if (vij_xij < 0.0) {
-        const double mu = h * vij_xij / (r2 + eta2h2);
-        const double Pi = (-av.alpha * c0 * mu + av.beta * mu * mu) / (0.5 * (rho[i] + rho[j]));
-        t[0] -= Pi;
-        t[1] -= Pi;
-        t[2] -= Pi;
-      }
-      const double mg = m[j] * gw;
-      for (int aa = 0; aa < 3; ++aa)
-        a[aa] += mg * (t[kSym[aa][0]] * xij[0] + t[kSym[aa][1]] * xij[1] + t[kSym[aa][2]] * xij[2]);
-    }
-    acc[3 * i] = a[0];
-    acc[3 * i + 1] = a[1];
-    acc[3 * i + 2] = a[2];
+struct MomentumArgs {
+  const NeighbourList* nl;
+  const double *x, *v, *m, *rho, *sigma_over_rho2, *R;
+  double* acc;
+  std::size_t n;
+  double h, eta2h2, alpha_c, beta, inv_w_dx, exponent;
+};
+
+/// Exponent: 0 without artificial stress, 4 for the usual n = 4 (multiplications), -1 for any
+/// other n (pow).
+template <KernelKind K, int Exponent>
+SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
+  constexpr bool kStress = Exponent != 0;
+  const double* x = g.x;
+  const double* v = g.v;
+  const double* m = g.m;
+  const double* rho = g.rho;
+  const double* sigma_over_rho2 = g.sigma_over_rho2;
+  const double* R = g.R;
+  const double h = g.h, eta2h2 = g.eta2h2, alpha_c = g.alpha_c, beta = g.beta;
+  const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
+  const double vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
+  const double rhoi = rho[i];
+  double ti[6], Ri[6];
+  for (int c = 0; c < 6; ++c) {
+    ti[c] = sigma_over_rho2[6 * i + c];
+    Ri[c] = kStress ? R[6 * i + c] : 0.0;
   }
+  double a0 = 0, a1 = 0, a2 = 0;
+  const std::uint32_t* const nb = g.nl->begin(i);
+  const std::ptrdiff_t count = g.nl->end(i) - nb;
+#pragma omp simd reduction(+ : a0, a1, a2)
+  for (std::ptrdiff_t k = 0; k < count; ++k) {
+    const std::size_t j = nb[k];
+    const double x0 = xi0 - x[3 * j], x1 = xi1 - x[3 * j + 1], x2 = xi2 - x[3 * j + 2];
+    const double r2 = x0 * x0 + x1 * x1 + x2 * x2;
+    // grad_i W_ij = gw * x_ij. Pairs in the Verlet skin (gw = 0) run through too and add an
+    // exact 0: cheaper than an unpredictable branch.
+    double gw, w = 0.0;
+    if constexpr (kStress) kernel.factor_and_value(r2, gw, w);
+    else gw = kernel.factor(r2);
+    // sigma_i/rho_i^2 + sigma_j/rho_j^2, sigma = S - p I  (eq. 7)
+    const double* tj = sigma_over_rho2 + 6 * j;
+    double t[6];
+    for (int c = 0; c < 6; ++c) t[c] = ti[c] + tj[c];
+    if constexpr (kStress) {
+      // f_ij^n (R_i + R_j), f_ij = W(r_ij)/W(dx)  (eq. 9); R is zero for particles under no
+      // principal tension, and then this adds an exact 0.
+      const double fw = w * g.inv_w_dx;
+      double f;
+      if constexpr (Exponent == 4) {
+        const double fw2 = fw * fw;
+        f = fw2 * fw2;
+      } else {
+        f = std::pow(fw, g.exponent);
+      }
+      for (int c = 0; c < 6; ++c) t[c] += f * (Ri[c] + R[6 * j + c]);
+    }
+    // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
+    const double vij_xij = (vi0 - v[3 * j]) * x0 + (vi1 - v[3 * j + 1]) * x1 + (vi2 - v[3 * j + 2]) * x2;
+    const double mu = h * std::min(vij_xij, 0.0) / (r2 + eta2h2);
+    const double Pi = (-alpha_c * mu + beta * mu * mu) / (0.5 * (rhoi + rho[j]));
+    t[0] -= Pi;
+    t[1] -= Pi;
+    t[2] -= Pi;
+    const double mg = m[j] * gw;
+    a0 += mg * (t[0] * x0 + t[3] * x1 + t[5] * x2);
+    a1 += mg * (t[3] * x0 + t[1] * x1 + t[4] * x2);
+    a2 += mg * (t[5] * x0 + t[4] * x1 + t[2] * x2);
+  }
+  g.acc[3 * i] = a0;
+  g.acc[3 * i + 1] = a1;
+  g.acc[3 * i + 2] = a2;
+}
+
+template <KernelKind K, int Exponent>
+void momentum_generic(const MomentumArgs& g) {
+  const PairKernel<K> kernel(g.h);
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::size_t i = 0; i < g.n; ++i) momentum_particle<K, Exponent>(g, kernel, i);
+}
+
+template <KernelKind K, int Exponent>
+SPHFORGE_TARGET_AVX2 void momentum_avx2(const MomentumArgs& g) {
+  const PairKernel<K> kernel(g.h);
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::size_t i = 0; i < g.n; ++i) momentum_particle<K, Exponent>(g, kernel, i);
+}
+
+template <KernelKind K, int Exponent>
+void momentum_rate_impl(const MomentumArgs& g) {
+  if (cpu_has_avx2_fma()) momentum_avx2<K, Exponent>(g);
+  else momentum_generic<K, Exponent>(g);
 }
 }  // namespace
+
+bool allow_avx2_pair_loops(bool allow) { return g_allow_avx2.exchange(allow); }
 
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
                        const double* volume, bool corrected, double* L, double* condition, std::size_t n) {
@@ -186,26 +318,25 @@ void jaumann_rotation(const double* L, double dt, double* S, std::size_t n) {
   }
 }
 
+namespace {
+template <KernelKind K>
+void momentum_rate_kernel(const MomentumArgs& g, bool stress) {
+  if (!stress) momentum_rate_impl<K, 0>(g);
+  else if (g.exponent == 4.0) momentum_rate_impl<K, 4>(g);
+  else momentum_rate_impl<K, -1>(g);
+}
+}  // namespace
+
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
                    const double* sigma_over_rho2, const ArtificialStress& as, const double* R,
                    double* acceleration, std::size_t n) {
   const bool stress = R != nullptr && as.epsilon > 0.0;
-  if (kernel == KernelKind::WendlandC2) {
-    if (stress)
-      momentum_rate_impl<KernelKind::WendlandC2, true>(nl, h, av, sound_speed, x, v, mass, density, sigma_over_rho2,
-                                                       as, R, acceleration, n);
-    else
-      momentum_rate_impl<KernelKind::WendlandC2, false>(nl, h, av, sound_speed, x, v, mass, density,
-                                                        sigma_over_rho2, as, R, acceleration, n);
-  } else {
-    if (stress)
-      momentum_rate_impl<KernelKind::CubicSpline, true>(nl, h, av, sound_speed, x, v, mass, density,
-                                                        sigma_over_rho2, as, R, acceleration, n);
-    else
-      momentum_rate_impl<KernelKind::CubicSpline, false>(nl, h, av, sound_speed, x, v, mass, density,
-                                                         sigma_over_rho2, as, R, acceleration, n);
-  }
+  const MomentumArgs g{&nl, x, v, mass, density, sigma_over_rho2, R, acceleration, n, h,
+                       av.eta * av.eta * h * h, av.alpha * sound_speed, av.beta,
+                       stress ? 1.0 / as.w_dx : 0.0, as.exponent};
+  if (kernel == KernelKind::WendlandC2) momentum_rate_kernel<KernelKind::WendlandC2>(g, stress);
+  else momentum_rate_kernel<KernelKind::CubicSpline>(g, stress);
 }
 
 void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R, std::size_t n) {

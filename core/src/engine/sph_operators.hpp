@@ -15,6 +15,10 @@ struct ArtificialViscosity {
   double eta = 0.1;    ///< singularity guard, as a fraction of h
 };
 
+/// The pair passes run AVX2 + FMA loops where the CPU has them, else generic ones. For tests and
+/// benchmarks: false forces the generic loops (true restores the choice). Returns the old setting.
+bool allow_avx2_pair_loops(bool allow);
+
 /// Particle volume V_i = m_i / rho_i.
 void particle_volume(const double* mass, const double* density, double* volume, std::size_t n);
 
