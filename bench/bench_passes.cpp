@@ -18,7 +18,7 @@ using namespace sphforge;
 struct Block {
   std::size_t n = 0;
   double dx = 1e-3, h = 1.3e-3;
-  std::vector<double> x, v, m, rho, volume, L, S, p, sigma, R, a;
+  std::vector<double> x, v, m, rho, volume, L, S, p, sigma, R, a, correction, stress_c;
   NeighbourList nl;
 
   explicit Block(int side) {
@@ -47,6 +47,11 @@ struct Block {
     nl.build(x.data(), n, 2.0 * h + 0.2 * h);
     stress_over_density_squared(p.data(), S.data(), rho.data(), sigma.data(), n);
     artificial_stress(sigma.data(), 0.3, R.data(), n);
+    correction.assign(6 * n, 0.0);
+    stress_c.assign(9 * n, 0.0);
+    velocity_gradient(nl, KernelKind::CubicSpline, h, x.data(), v.data(), volume.data(), true, L.data(), nullptr,
+                      correction.data(), n);
+    corrected_stress(p.data(), S.data(), correction.data(), stress_c.data(), n);
   }
 };
 
@@ -67,7 +72,7 @@ void BM_VelocityGradientCorrected(benchmark::State& state) {
   Block& b = block(static_cast<int>(state.range(0)));
   for (auto _ : state)
     velocity_gradient(b.nl, KernelKind::CubicSpline, b.h, b.x.data(), b.v.data(), b.volume.data(), true, b.L.data(),
-                      nullptr, b.n);
+                      nullptr, b.correction.data(), b.n);
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
 }
 
@@ -77,7 +82,7 @@ void BM_MomentumWithArtificialStress(benchmark::State& state) {
   as.w_dx = kernel_value(KernelKind::CubicSpline, b.dx, b.h);
   for (auto _ : state)
     momentum_rate(b.nl, KernelKind::CubicSpline, b.h, ArtificialViscosity{}, 50.0, b.x.data(), b.v.data(),
-                  b.m.data(), b.rho.data(), b.sigma.data(), as, b.R.data(), b.a.data(), b.n);
+                  b.m.data(), b.rho.data(), b.volume.data(), b.stress_c.data(), as, b.R.data(), b.a.data(), b.n);
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
 }
 

@@ -76,7 +76,7 @@ void check_patch(KernelKind kernel) {
   const JitteredBlock block(12, kernel);
   std::vector<double> L(9 * block.n), condition(block.n);
   velocity_gradient(block.nl, kernel, block.h, block.x.data(), block.v.data(), block.volume.data(), true, L.data(),
-                    condition.data(), block.n);
+                    condition.data(), nullptr, block.n);
   std::size_t corrected = 0, corrected_surface = 0;
   for (std::size_t i = 0; i < block.n; ++i)
     if (condition[i] != -1.0) {
@@ -93,7 +93,7 @@ void check_patch(KernelKind kernel) {
   // the test can fail.
   std::vector<double> plain(9 * block.n);
   velocity_gradient(block.nl, kernel, block.h, block.x.data(), block.v.data(), block.volume.data(), false,
-                    plain.data(), nullptr, block.n);
+                    plain.data(), nullptr, nullptr, block.n);
   EXPECT_GT(block.max_error(plain, [&](std::size_t i) { return block.surface[i]; }), 1e-2);
 }
 

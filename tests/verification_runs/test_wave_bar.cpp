@@ -4,15 +4,13 @@
 // bar with free lateral faces. The speed is measured as time of flight of the front's half level
 // between two probes on the axis, at 4 and 8 particles across the 100 mm section.
 //
-// Tolerance: 2 % on the speed extrapolated to zero spacing (Richardson, order 1), and an observed
-// order within [0.7, 1.3]. Why extrapolated: the raw speed is 12 % (4 across) and 6 % (8 across)
-// low. The error comes from the free lateral faces: the momentum equation (theory eq. 7) uses the
-// uncorrected kernel gradient, whose moment M_xx = -sum_j V_j x_ij,x dW/dx is below 1 within 2h of
-// a free face, so those particles respond too softly; their share of the section is proportional
-// to dx / width, hence first order in dx and a function of the particles across the section only
-// (docs/verification.md gives the numbers, including 2 across). The extrapolation removes exactly
-// that first-order term; what remains (dispersion, lattice moment of the interior, 0.3 %) must be
-// within 2 %.
+// Tolerance: 2 % on the raw speed at 4 and at 8 particles across the section (the figure).
+// Measured: +0.002 % and -0.03 %. History: with the uncorrected kernel gradient in the momentum
+// equation the speed was 12 % (4 across) and 6 % (8 across) low, because particles within 2h of the
+// free lateral faces responded too softly; the variationally consistent corrected momentum
+// equation (theory eq. 7) removed that error. The coarsest run (2 across) and the observed orders
+// are printed and recorded; once the error reaches the resolution of the front timing (a few
+// 1e-4) the order is noise and is not asserted.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -48,24 +46,32 @@ Measured measure(const std::string& spacing, const std::vector<std::string>& ext
   return {(x2 - x1) / (t2 - t1), summary["particles"].get<long long>()};
 }
 
-TEST(WaveBar, SpeedConvergesToSqrtEOverRhoWithinTwoPercent) {
-  const Measured coarse = measure("25 mm"), fine = measure("12.5 mm");
-  const double e_coarse = (coarse.speed - kSpeed) / kSpeed, e_fine = (fine.speed - kSpeed) / kSpeed;
-  const double order = std::log2(std::abs(e_coarse) / std::abs(e_fine));
-  const double extrapolated = 2.0 * fine.speed - coarse.speed;  // Richardson, order 1
-  const double e_extrapolated = (extrapolated - kSpeed) / kSpeed;
-  char line[400];
-  std::snprintf(line, sizeof line,
-                "wave_bar: analytic %.4f m/s; dx 25 mm (%lld particles): %.4f m/s, error %+.4f %%; dx 12.5 mm (%lld "
-                "particles): %.4f m/s, error %+.4f %%; observed order %.3f; extrapolated %.4f m/s, error %+.4f %%\n",
-                kSpeed, coarse.particles, coarse.speed, 100 * e_coarse, fine.particles, fine.speed, 100 * e_fine, order,
-                extrapolated, 100 * e_extrapolated);
-  std::printf("%s", line);
-  record("verification_results.txt", line);
-  EXPECT_LT(std::abs(e_extrapolated), 0.02) << line;
-  EXPECT_GT(order, 0.7) << line;
-  EXPECT_LT(order, 1.3) << line;
-  EXPECT_LT(std::abs(e_fine), std::abs(e_coarse)) << line;
+TEST(WaveBar, SpeedWithinTwoPercentOfSqrtEOverRho) {
+  const std::vector<std::string> spacings = {"50 mm", "25 mm", "12.5 mm"};
+  std::vector<Measured> runs;
+  std::vector<double> errors;
+  for (const auto& dx : spacings) {
+    runs.push_back(measure(dx));
+    errors.push_back((runs.back().speed - kSpeed) / kSpeed);
+  }
+  std::string text = "wave_bar: analytic " + std::to_string(kSpeed) + " m/s;";
+  for (std::size_t k = 0; k < spacings.size(); ++k) {
+    char item[200];
+    std::snprintf(item, sizeof item, " dx %s (%lld particles): %.4f m/s, error %+.4f %%", spacings[k].c_str(),
+                  runs[k].particles, runs[k].speed, 100 * errors[k]);
+    text += item;
+    if (k > 0) {
+      std::snprintf(item, sizeof item, ", observed order %.2f",
+                    std::log2(std::abs(errors[k - 1]) / std::max(std::abs(errors[k]), 1e-300)));
+      text += item;
+    }
+    text += ";";
+  }
+  text += "\n";
+  std::printf("%s", text.c_str());
+  record("verification_results.txt", text);
+  EXPECT_LT(std::abs(errors[1]), 0.02) << text;
+  EXPECT_LT(std::abs(errors[2]), 0.02) << text;
 }
 
 }  // namespace

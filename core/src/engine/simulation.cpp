@@ -635,13 +635,19 @@ void Simulation::mechanics_rates() {
       thermal_lists_stale_ = true;  // thermal-only particles moved in the arrays too
     neighbours_.rebuild(x, n, search, skin);
   }
+  // Per-step scratch: volume (1), correction C (6), A = sigma C (9), and for the artificial stress
+  // sigma/rho^2 (6) and R (6) per particle.
   const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
-  scratch_.resize((with_artificial_stress ? 12 : 6) * n);
-  double* sigma_over_rho2 = scratch_.data();
-  double* artificial = with_artificial_stress ? scratch_.data() + 6 * n : nullptr;
-  particle_volume(m, rho, scratch_.data(), n);
-  velocity_gradient(neighbours_, settings_.kernel, h_, x, v, scratch_.data(), settings_.gradient_correction, L,
-                    fields_.f64_if(field::gradient_condition), n);
+  const bool corrected = settings_.gradient_correction;
+  scratch_.resize((1 + (corrected ? 6 : 0) + 9 + (with_artificial_stress ? 12 : 0)) * n);
+  double* volume = scratch_.data();
+  double* correction = corrected ? volume + n : nullptr;
+  double* stress_c = volume + (corrected ? 7 : 1) * n;
+  double* sigma_over_rho2 = with_artificial_stress ? stress_c + 9 * n : nullptr;
+  double* artificial = with_artificial_stress ? sigma_over_rho2 + 6 * n : nullptr;
+  particle_volume(m, rho, volume, n);
+  velocity_gradient(neighbours_, settings_.kernel, h_, x, v, volume, corrected, L,
+                    fields_.f64_if(field::gradient_condition), correction, n);
   continuity_density_rate(L, rho, drho, n);
   // The density advances here, before the material's equation of state, so that the pressure and
   // the deviatoric stress both belong to the new configuration x^n (eq. 14). Updating it after
@@ -679,9 +685,14 @@ void Simulation::mechanics_rates() {
     if (need_yield_) materials_[b.material]->yield_stress(batch, yield_scratch_.data() + b.first);
   }
   internal_energy_ += dt_ * stress_power(m, rho, S, p, L, n);  // eq. 26
-  stress_over_density_squared(p, S, rho, sigma_over_rho2, n);
-  if (artificial) artificial_stress(sigma_over_rho2, settings_.artificial_stress.epsilon, artificial, n);
-  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, x, v, m, rho, sigma_over_rho2,
+  corrected_stress(p, S, correction, stress_c, n);
+  if (artificial) {
+    stress_over_density_squared(p, S, rho, sigma_over_rho2, n);
+    artificial_stress(sigma_over_rho2, settings_.artificial_stress.epsilon, artificial, n);
+  }
+  // The volumes are those of the step's start (before the density update): the same V_j the
+  // corrected gradient used, as the energy consistency of eq. 7 requires.
+  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, x, v, m, rho, volume, stress_c,
                 settings_.artificial_stress, artificial, a, n);
   std::fill(fc, fc + 3 * n, 0.0);
   contacts_ = contact_.apply(tools_, x, v, m, need_yield_ ? yield_scratch_.data() : nullptr, n, dt_, fc);

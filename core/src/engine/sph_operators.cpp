@@ -75,7 +75,7 @@ bool cpu_has_avx2_fma() { return false; }
 struct GradientArgs {
   const NeighbourList* nl;
   const double *x, *v, *volume;
-  double *L, *condition;
+  double *L, *condition, *correction;
   std::size_t n;
 };
 
@@ -123,18 +123,30 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
       for (int b = 0; b < 3; ++b) mom[3 * a + b] = mom6[kSym[a][b]];
     Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> G(l), M(mom);
     const double det = M.determinant();
-    if (det > 0.05) {
+    if (det > 1e-3) {
       const Eigen::Matrix3d Minv = M.inverse();
       const double cond = M.norm() * Minv.norm();
-      if (cond < 50.0) {
+      if (cond < 1000.0) {
         const Eigen::Matrix3d corrected = G * Minv;
         Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> result(out);
         result = corrected;
         if (g.condition) g.condition[i] = cond;
+        if (g.correction) {
+          // C = M^-1 (symmetric, as M is), for the momentum equation (eq. 7)
+          double* c = g.correction + 6 * i;
+          c[0] = Minv(0, 0), c[1] = Minv(1, 1), c[2] = Minv(2, 2);
+          c[3] = 0.5 * (Minv(0, 1) + Minv(1, 0)), c[4] = 0.5 * (Minv(1, 2) + Minv(2, 1));
+          c[5] = 0.5 * (Minv(0, 2) + Minv(2, 0));
+        }
         return;
       }
     }
     if (g.condition) g.condition[i] = -1.0;  // fallback used
+    if (g.correction) {
+      double* c = g.correction + 6 * i;
+      c[0] = c[1] = c[2] = 1.0;
+      c[3] = c[4] = c[5] = 0.0;
+    }
   }
   for (int c = 0; c < 9; ++c) out[c] = l[c];
 }
@@ -155,15 +167,15 @@ SPHFORGE_TARGET_AVX2 void velocity_gradient_avx2(const GradientArgs& g, double h
 
 template <KernelKind K, bool Corrected>
 void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, const double* v,
-                            const double* volume, double* L, std::size_t n, double* condition) {
-  const GradientArgs g{&nl, x, v, volume, L, condition, n};
+                            const double* volume, double* L, std::size_t n, double* condition, double* correction) {
+  const GradientArgs g{&nl, x, v, volume, L, condition, correction, n};
   if (cpu_has_avx2_fma()) velocity_gradient_avx2<K, Corrected>(g, h);
   else velocity_gradient_generic<K, Corrected>(g, h);
 }
 
 struct MomentumArgs {
   const NeighbourList* nl;
-  const double *x, *v, *m, *rho, *sigma_over_rho2, *R;
+  const double *x, *v, *m, *rho, *volume, *stress_c, *R;
   double* acc;
   std::size_t n;
   double h, eta2h2, alpha_c, beta, inv_w_dx, exponent;
@@ -178,17 +190,17 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   const double* v = g.v;
   const double* m = g.m;
   const double* rho = g.rho;
-  const double* sigma_over_rho2 = g.sigma_over_rho2;
+  const double* volume = g.volume;
+  const double* stress_c = g.stress_c;
   const double* R = g.R;
   const double h = g.h, eta2h2 = g.eta2h2, alpha_c = g.alpha_c, beta = g.beta;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
   const double vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
-  const double rhoi = rho[i];
-  double ti[6], Ri[6];
-  for (int c = 0; c < 6; ++c) {
-    ti[c] = sigma_over_rho2[6 * i + c];
-    Ri[c] = kStress ? R[6 * i + c] : 0.0;
-  }
+  // 1/rho_i from the volume the corrected gradient used (V_i / m_i), for energy consistency.
+  const double rhoi = rho[i], inv_rhoi = volume[i] / m[i];
+  double ai[9], Ri[6];
+  for (int c = 0; c < 9; ++c) ai[c] = stress_c[9 * i + c];
+  for (int c = 0; c < 6; ++c) Ri[c] = kStress ? R[6 * i + c] : 0.0;
   double a0 = 0, a1 = 0, a2 = 0;
   const std::uint32_t* const nb = g.nl->begin(i);
   const std::ptrdiff_t count = g.nl->end(i) - nb;
@@ -202,10 +214,16 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
     double gw, w = 0.0;
     if constexpr (kStress) kernel.factor_and_value(r2, gw, w);
     else gw = kernel.factor(r2);
-    // sigma_i/rho_i^2 + sigma_j/rho_j^2, sigma = S - p I  (eq. 7)
-    const double* tj = sigma_over_rho2 + 6 * j;
-    double t[6];
-    for (int c = 0; c < 6; ++c) t[c] = ti[c] + tj[c];
+    // Stress term (eq. 7): V_j / rho_i (sigma_i C_i + sigma_j C_j) . grad_i W_ij, A = sigma C.
+    const double* aj = stress_c + 9 * j;
+    double a[9];
+    for (int c = 0; c < 9; ++c) a[c] = ai[c] + aj[c];
+    const double vg = volume[j] * gw * inv_rhoi;
+    a0 += vg * (a[0] * x0 + a[1] * x1 + a[2] * x2);
+    a1 += vg * (a[3] * x0 + a[4] * x1 + a[5] * x2);
+    a2 += vg * (a[6] * x0 + a[7] * x1 + a[8] * x2);
+    // Stabilising terms, symmetric tensors times m_j grad_i W_ij: artificial stress and viscosity.
+    double t[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     if constexpr (kStress) {
       // f_ij^n (R_i + R_j), f_ij = W(r_ij)/W(dx)  (eq. 9); R is zero for particles under no
       // principal tension, and then this adds an exact 0.
@@ -217,7 +235,7 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
       } else {
         f = std::pow(fw, g.exponent);
       }
-      for (int c = 0; c < 6; ++c) t[c] += f * (Ri[c] + R[6 * j + c]);
+      for (int c = 0; c < 6; ++c) t[c] = f * (Ri[c] + R[6 * j + c]);
     }
     // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
     const double vij_xij = (vi0 - v[3 * j]) * x0 + (vi1 - v[3 * j + 1]) * x1 + (vi2 - v[3 * j + 2]) * x2;
@@ -260,13 +278,36 @@ void momentum_rate_impl(const MomentumArgs& g) {
 bool allow_avx2_pair_loops(bool allow) { return g_allow_avx2.exchange(allow); }
 
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
-                       const double* volume, bool corrected, double* L, double* condition, std::size_t n) {
+                       const double* volume, bool corrected, double* L, double* condition, double* correction,
+                       std::size_t n) {
   if (kernel == KernelKind::WendlandC2) {
-    if (corrected) velocity_gradient_impl<KernelKind::WendlandC2, true>(nl, h, x, v, volume, L, n, condition);
-    else velocity_gradient_impl<KernelKind::WendlandC2, false>(nl, h, x, v, volume, L, n, condition);
+    if (corrected)
+      velocity_gradient_impl<KernelKind::WendlandC2, true>(nl, h, x, v, volume, L, n, condition, correction);
+    else velocity_gradient_impl<KernelKind::WendlandC2, false>(nl, h, x, v, volume, L, n, condition, nullptr);
   } else {
-    if (corrected) velocity_gradient_impl<KernelKind::CubicSpline, true>(nl, h, x, v, volume, L, n, condition);
-    else velocity_gradient_impl<KernelKind::CubicSpline, false>(nl, h, x, v, volume, L, n, condition);
+    if (corrected)
+      velocity_gradient_impl<KernelKind::CubicSpline, true>(nl, h, x, v, volume, L, n, condition, correction);
+    else velocity_gradient_impl<KernelKind::CubicSpline, false>(nl, h, x, v, volume, L, n, condition, nullptr);
+  }
+}
+
+void corrected_stress(const double* pressure, const double* S, const double* correction, double* stress_c,
+                      std::size_t n) {
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* s = S + 6 * i;
+    const double sigma[9] = {s[0] - pressure[i], s[3], s[5], s[3], s[1] - pressure[i], s[4],
+                             s[5], s[4], s[2] - pressure[i]};
+    double* out = stress_c + 9 * i;
+    if (!correction) {
+      for (int c = 0; c < 9; ++c) out[c] = sigma[c];
+      continue;
+    }
+    const double* k = correction + 6 * i;
+    const double C[9] = {k[0], k[3], k[5], k[3], k[1], k[4], k[5], k[4], k[2]};
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        out[3 * a + b] = sigma[3 * a] * C[b] + sigma[3 * a + 1] * C[3 + b] + sigma[3 * a + 2] * C[6 + b];
   }
 }
 
@@ -329,10 +370,10 @@ void momentum_rate_kernel(const MomentumArgs& g, bool stress) {
 
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
-                   const double* sigma_over_rho2, const ArtificialStress& as, const double* R,
+                   const double* volume, const double* stress_c, const ArtificialStress& as, const double* R,
                    double* acceleration, std::size_t n) {
   const bool stress = R != nullptr && as.epsilon > 0.0;
-  const MomentumArgs g{&nl, x, v, mass, density, sigma_over_rho2, R, acceleration, n, h,
+  const MomentumArgs g{&nl, x, v, mass, density, volume, stress_c, R, acceleration, n, h,
                        av.eta * av.eta * h * h, av.alpha * sound_speed, av.beta,
                        stress ? 1.0 / as.w_dx : 0.0, as.exponent};
   if (kernel == KernelKind::WendlandC2) momentum_rate_kernel<KernelKind::WendlandC2>(g, stress);

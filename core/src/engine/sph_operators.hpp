@@ -25,12 +25,18 @@ void particle_volume(const double* mass, const double* density, double* volume, 
 /// Velocity gradient L_i = sum_j V_j (v_j - v_i) (x) grad_i W_ij   (theory eq. 3), optionally with the
 /// first-order (Randles-Libersky) correction L_i <- L_i M_i^-1 (eqs. 3a-3b). L stored row-major,
 /// 9 per particle, L_ab = dv_a/dx_b. `condition` (may be null) receives the condition number of
-/// M_i, or -1 where the correction fell back to the plain gradient.
+/// M_i, or -1 where the correction fell back to the plain gradient. `correction` (may be null; only
+/// written when `corrected`) receives C_i = M_i^-1 (6 per particle, symmetric), I on fallback.
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
-                       const double* volume, bool corrected, double* L, double* condition, std::size_t n);
+                       const double* volume, bool corrected, double* L, double* condition, double* correction,
+                       std::size_t n);
 
-/// sigma_i / rho_i^2 with sigma = S - p I (6 per particle), the per-particle half of eq. 7,
-/// computed once per step instead of once per pair.
+/// A_i = sigma_i C_i (9 per particle, row-major), sigma = S - p I, the per-particle half of the
+/// momentum equation (eq. 7); C null means C = I (no correction).
+void corrected_stress(const double* pressure, const double* deviatoric_stress, const double* correction,
+                      double* stress_c, std::size_t n);
+
+/// sigma_i / rho_i^2 with sigma = S - p I (6 per particle), the input of the artificial stress.
 void stress_over_density_squared(const double* pressure, const double* deviatoric_stress, const double* density,
                                  double* sigma_over_rho2, std::size_t n);
 
@@ -52,14 +58,17 @@ struct ArtificialStress {
 /// frame of sigma_i, R'_k = -epsilon sigma'_k / rho_i^2 for tensile sigma'_k > 0, else 0.
 void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R, std::size_t n);
 
-/// Momentum equation, pairwise-symmetric form with Monaghan artificial viscosity:
-/// a_i = sum_j m_j [ sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi_ij I ] . grad_i W_ij   (theory eqs. 7-8)
-/// plus, when R is given, the artificial stress f_ij^n (R_i + R_j) (eq. 9).
-/// sigma = S - p I. Because the pair term is antisymmetric in (i, j) and evaluated with the same
-/// operands in the same order from both sides, linear momentum is conserved to round-off.
+/// Momentum equation in the variationally consistent corrected form (theory eqs. 7-9):
+/// a_i = 1/rho_i sum_j V_j (A_i + A_j) . grad_i W_ij  +  sum_j m_j [f_ij^n (R_i + R_j) - Pi_ij I] . grad_i W_ij
+/// with A = sigma C from corrected_stress(), Monaghan viscosity Pi_ij and, when R is given, the
+/// artificial stress. The stress term is minus the derivative of the stress power sum_i V_i
+/// sigma_i : L_i with respect to the velocities, L the corrected gradient: the pair force is
+/// antisymmetric (linear momentum exact), angular momentum is exact wherever the correction holds
+/// (sum_j V_j x_ij (x) C grad W = -I and sigma symmetric), and the work of the internal forces
+/// equals the stress power (energy consistency).
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
-                   const double* sigma_over_rho2, const ArtificialStress& as, const double* R,
+                   const double* volume, const double* stress_c, const ArtificialStress& as, const double* R,
                    double* acceleration, std::size_t n);
 
 }  // namespace sphforge
