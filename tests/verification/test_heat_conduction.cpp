@@ -1,4 +1,4 @@
-// Verification of heat conduction (docs/theory.md eqs. 19-22) against analytic answers, on the
+// Verification of heat conduction (docs/theory.md eqs. 20-23) against analytic answers, on the
 // bundled cases in cases/verification/ (thermal-only particles, so no mechanics pass runs).
 // Each tolerance is stated with its reason; docs/verification.md holds the measured numbers.
 #include <gtest/gtest.h>
@@ -82,7 +82,7 @@ double erf_error(const std::string& dx, const std::string& tag, double* conserva
 
 // Two bars at 120 degC and 20 degC put in contact; exact: T = 70 degC - 50 K erf(x / 2 sqrt(alpha t)).
 // Particles jittered by 20 % of dx. Tolerance 2 % of the jump (the figure); measured 1.35 %
-// at dx = 1 mm. The pair terms of eq. 19 are antisymmetric, so the heat content is conserved to
+// at dx = 1 mm. The pair terms of eq. 20 are antisymmetric, so the heat content is conserved to
 // round-off: 1e-12 relative (about 1e4 round-off errors of 1e-16 accumulated over the run).
 TEST(HeatConduction, TransientErfSolutionOnJitteredParticles) {
   double conservation = 1.0;
@@ -118,7 +118,7 @@ TEST(HeatConduction, ErfErrorConvergesWithResolution) {
 // held at 100 and 0 degC). Each side's profile is fitted by a straight line through its interior
 // centre-line particles and extrapolated to the interface x = 10 mm; the exact interface
 // temperature is 83.33 degC. Tolerance 0.5 K (0.5 % of the 100 K drop): the profiles are linear, so
-// the SPH Laplacian is exact inside each material and the harmonic-mean conductivity (eq. 20)
+// the SPH Laplacian is exact inside each material and the harmonic-mean conductivity (eq. 21)
 // carries the flux across the interface; what remains is the not-quite-steady state at t = 60 s
 // (slowest decay time L^2 / (pi^2 alpha) of about 2 s) and the layers next to the held ends.
 TEST(HeatConduction, TwoMaterialsInSeriesInterfaceTemperature) {
@@ -154,7 +154,7 @@ TEST(HeatConduction, TwoMaterialsInSeriesInterfaceTemperature) {
 // Newton cooling of a steel ball (Biot 0.032): the mass-weighted mean temperature against the
 // lumped solution with the body's own volume V = N dx^3 and the area of the ball of that volume.
 // Tolerance 5 % of the initial excess temperature: the Biot number itself makes the lumped answer
-// about 1 % off, and the kernel area estimate (eq. 21) smooths the lattice's staircase surface.
+// about 1 % off, and the kernel area estimate (eq. 22) smooths the lattice's staircase surface.
 TEST(HeatConduction, NewtonCoolingOfABallFollowsTheLumpedSolution) {
   const CaseRun r = run_case("newton_cooling.json", {}, "newton");
   const Simulation& sim = *r.sim;

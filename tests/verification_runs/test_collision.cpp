@@ -7,10 +7,12 @@
 // only by round-off: ~1e-16 of each particle's momentum per step, ~400 steps and 1536 particles
 // summed with random signs. Tolerance 1e-12 of the initial sum m|v| (the total momentum itself is
 // near zero, so it cannot be the scale).
-// Energy: kinetic + internal (stress work, eq. 26) is conserved by the continuum; the artificial
-// viscosity dissipates energy that is not booked as internal energy, so E = KE + IE may only fall.
-// Tolerance: E never above E0 by more than 1 % (the kinetic energy is that of the half-step
-// velocities, off by O(dt) from the positions' time), and the loss is reported.
+// Energy: the internal energy (theory eq. 27) books the work done against every internal force
+// (stress, artificial viscosity, artificial stress) with the step-centred velocity, so
+// E = KE + IE of this free system is an invariant of the leapfrog update up to round-off.
+// Tolerance: |E - E0| <= 1e-9 E0 at every history row (round-off of ~1e-16 per particle and
+// step, summed over 1536 particles and ~400 steps, is below 1e-11; the margin covers the
+// history's 17-digit output).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -49,13 +51,13 @@ TEST(Collision, MomentumToRoundOffEnergyNeverGrows) {
   const double final_change = (ke.back() + ie.back() - e0) / e0;
   char line[300];
   std::snprintf(line, sizeof line,
-                "collision: %lld steps; linear momentum max change %.3e of sum m|v|; energy KE+IE max growth %+.4f, "
-                "max loss %.4f, final %+.4f (artificial viscosity)\n",
+                "collision: %lld steps; linear momentum max change %.3e of sum m|v|; energy KE+IE max growth %+.3e, "
+                "max loss %.3e, final %+.3e\n",
                 summary["steps"].get<long long>(), dp, growth, loss, final_change);
   std::printf("%s", line);
   record("verification_results.txt", line);
   EXPECT_LT(dp, 1e-12) << line;
-  EXPECT_LT(growth, 0.01) << line;
+  EXPECT_LT(std::max(growth, loss), 1e-9) << line;
   // The blocks must actually have collided: a large part of the energy went through the stress.
   double ie_max = 0;
   for (double v : ie) ie_max = std::max(ie_max, v);

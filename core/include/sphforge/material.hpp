@@ -30,7 +30,7 @@ struct MaterialBatch {
   const double* temperature = nullptr;
   double* heat_source = nullptr;
   /// numerics.time_scaling f: the simulated strain rates are f times the physical ones, so a
-  /// rate-dependent law evaluates its rate term at rate / f (docs/theory.md eq. 24).
+  /// rate-dependent law evaluates its rate term at rate / f (docs/theory.md eq. 25).
   double time_scaling = 1.0;
 };
 

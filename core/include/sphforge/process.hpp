@@ -69,7 +69,7 @@ struct ProcessContext {
   const std::vector<BodyRange>* bodies = nullptr;
   /// Particles [0, mechanical_count) take part in mechanics; the rest are thermal-only.
   std::size_t mechanical_count = 0;
-  /// numerics.time_scaling: processes multiply their tool speeds by it (docs/theory.md eq. 24).
+  /// numerics.time_scaling: processes multiply their tool speeds by it (docs/theory.md eq. 25).
   double time_scaling = 1.0;
 };
 

@@ -10,19 +10,15 @@ double kinetic_energy(const double* m, const double* v, std::size_t n) {
   return e;
 }
 
-double stress_power(const double* m, const double* rho, const double* S, const double* p, const double* L,
-                    std::size_t n) {
-  double power = 0.0;
-#pragma omp parallel for reduction(+ : power) schedule(static)
+double internal_work(const double* m, const double* v, const double* a, double dt, std::size_t n) {
+  double work = 0.0;
+#pragma omp parallel for reduction(+ : work) schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
-    const double* l = L + 9 * i;
-    const double* s = S + 6 * i;
-    // S : D with the symmetric part of L (shear terms counted twice), minus p tr(D)   (eq. 26)
-    const double s_d = s[0] * l[0] + s[1] * l[4] + s[2] * l[8] + s[3] * (l[1] + l[3]) + s[4] * (l[5] + l[7]) +
-                       s[5] * (l[2] + l[6]);
-    power += m[i] / rho[i] * (s_d - p[i] * (l[0] + l[4] + l[8]));
+    double p = 0.0;
+    for (int d = 0; d < 3; ++d) p += a[3 * i + d] * (v[3 * i + d] + 0.5 * dt * a[3 * i + d]);
+    work -= m[i] * p;
   }
-  return power;
+  return dt * work;
 }
 
 }  // namespace sphforge

@@ -1,5 +1,5 @@
 // Energies of the particle system, for the history and the energy-ledger instability check
-// (docs/theory.md, eq. 26).
+// (docs/theory.md, eq. 27).
 #pragma once
 
 #include <cstddef>
@@ -9,9 +9,11 @@ namespace sphforge {
 /// Kinetic energy sum_i m_i |v_i|^2 / 2 (J) of particles [0, n).
 double kinetic_energy(const double* mass, const double* velocity, std::size_t n);
 
-/// Stress power sum_i V_i sigma_i : D_i (W) with sigma = S - p I, D = sym(L), V = m/rho: the rate
-/// at which the stresses do work on the deformation (elastic storage plus plastic dissipation).
-double stress_power(const double* mass, const double* density, const double* deviatoric_stress,
-                    const double* pressure, const double* velocity_gradient, std::size_t n);
+/// Work done against the internal forces over one leapfrog step (J): -dt sum_i m_i a_i . v_i^n with
+/// a the internal (stress, viscosity, artificial stress) acceleration and v^n = v^{n-1/2} + dt a / 2
+/// the step-centred velocity, so that kinetic + internal energy of a free body is conserved by the
+/// integrator up to round-off (eq. 27). `velocity` holds v^{n-1/2}.
+double internal_work(const double* mass, const double* velocity, const double* acceleration, double dt,
+                     std::size_t n);
 
 }  // namespace sphforge

@@ -9,7 +9,7 @@ namespace {
 template <KernelKind K>
 void heat_conduction_impl(const NeighbourList& nl, double h, const double* x, const double* volume,
                           const double* T, const double* k, double* heat, std::size_t n) {
-  // eta^2 = 0.01 h^2 keeps the 1/r^2 finite for coincident particles (eq. 19).
+  // eta^2 = 0.01 h^2 keeps the 1/r^2 finite for coincident particles (eq. 20).
   const double eta2 = 0.01 * h * h;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -22,7 +22,7 @@ void heat_conduction_impl(const NeighbourList& nl, double h, const double* x, co
       // x_ij . grad_i W_ij = F(r) r^2 with F = (dW/dr)/r <= 0
       const double xgrad = kernel_gradient_factor(K, std::sqrt(r2), h) * r2;
       const double ksum = k[i] + k[j];
-      const double kij = ksum > 0.0 ? 2.0 * k[i] * k[j] / ksum : 0.0;  // eq. 20
+      const double kij = ksum > 0.0 ? 2.0 * k[i] * k[j] / ksum : 0.0;  // eq. 21
       sum += volume[j] * kij * (T[j] - T[i]) * (-2.0 * xgrad) / (r2 + eta2);
     }
     heat[i] += volume[i] * sum;
@@ -41,7 +41,7 @@ void surface_area_impl(const NeighbourList& nl, double h, const double* x, const
       const double f = volume[j] * kernel_gradient_factor(K, std::sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]), h);
       for (int d = 0; d < 3; ++d) g[d] += f * dx[d];
     }
-    area[i] = 2.0 * volume[i] * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);  // eq. 21
+    area[i] = 2.0 * volume[i] * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);  // eq. 22
   }
 }
 
@@ -66,7 +66,7 @@ void surface_area(const NeighbourList& nl, KernelKind kernel, double h, const do
 void convection(const double* coefficient, const double* area, const double* temperature, double ambient,
                 double* heat_W, std::size_t n) {
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) heat_W[i] += coefficient[i] * area[i] * (ambient - temperature[i]);  // eq. 22
+  for (std::size_t i = 0; i < n; ++i) heat_W[i] += coefficient[i] * area[i] * (ambient - temperature[i]);  // eq. 23
 }
 
 }  // namespace sphforge

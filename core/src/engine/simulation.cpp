@@ -15,6 +15,7 @@
 #include "engine/reorder.hpp"
 #include "engine/xsph.hpp"
 #include "io/output_writers.hpp"
+#include "io/particle_dump.hpp"
 #include "sphforge/errors.hpp"
 #include "sphforge/version.hpp"
 
@@ -60,12 +61,12 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::number("neighbour_skin", "1", 0.2,
                         "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
       ParamSpec::number("mass_scaling", "1", 1.0,
-                        "factor on every particle's inertia (theory eq. 23); check kinetic_to_internal_ratio_1", 1.0,
+                        "factor on every particle's inertia (theory eq. 24); check kinetic_to_internal_ratio_1", 1.0,
                         1e12),
       ParamSpec::number("time_scaling", "1", 1.0,
-                        "processes run f times faster; rate laws and heat flow are corrected (theory eq. 24)", 1.0,
+                        "processes run f times faster; rate laws and heat flow are corrected (theory eq. 25)", 1.0,
                         1e6),
-      ParamSpec::number("xsph", "1", 0.0, "XSPH velocity smoothing epsilon (theory eq. 18; 0: off)", 0.0, 1.0),
+      ParamSpec::number("xsph", "1", 0.0, "XSPH velocity smoothing epsilon (theory eq. 19; 0: off)", 0.0, 1.0),
   };
   return specs;
 }
@@ -105,7 +106,7 @@ const ParamSpecs& thermal_specs() {
       ParamSpec::number("convection_coefficient", "W/(m^2*K)", 0.0,
                         "heat transfer coefficient on free surfaces; processes may set it per surface region", 0.0),
       ParamSpec::number("time_step_factor", "1", 0.1,
-                        "dt <= factor rho c h^2 / k (theory eq. 25)", 1e-3, 1.0),
+                        "dt <= factor rho c h^2 / k (theory eq. 26)", 1e-3, 1.0),
   };
   return specs;
 }
@@ -161,6 +162,13 @@ std::pair<std::size_t, double> fastest_particle(const double* v, std::size_t n) 
 }
 
 bool finite3(const double* p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+
+/// " at (x, y, z) m" for a diagnosis.
+std::string at_position(const double* x, std::size_t i) {
+  char text[96];
+  std::snprintf(text, sizeof text, " at (%.6g, %.6g, %.6g) m", x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+  return text;
+}
 
 // --- progress -------------------------------------------------------------------------------------
 class Progress {
@@ -447,7 +455,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       if (src.mechanics != mechanics) continue;
       bodies_[b] = {src.name, next, src.positions.size(), src.spacing_m, body_material[b], src.mechanics};
       const Material& material = *materials_[body_material[b]];
-      // Mass scaling multiplies mass and (inertial) density alike (eq. 23).
+      // Mass scaling multiplies mass and (inertial) density alike (eq. 24).
       const double rho0 = material.reference_density() * mass_scaling;
       const double particle_mass = rho0 * src.spacing_m * src.spacing_m * src.spacing_m;
       for (std::size_t k = 0; k < src.positions.size(); ++k, ++next) {
@@ -476,7 +484,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     thermal_volume_.resize(count_);
   }
 
-  // Wave speed of the mechanical materials, slowed by mass scaling (eq. 23).
+  // Wave speed of the mechanical materials, slowed by mass scaling (eq. 24).
   double c_max = 0.0;
   for (const auto& b : bodies_)
     if (b.mechanics) c_max = std::max(c_max, materials_[b.material]->wave_speed());
@@ -500,7 +508,7 @@ Simulation::~Simulation() = default;
 
 // --- time step ------------------------------------------------------------------------------------
 double Simulation::thermal_time_step() const {
-  // Explicit conduction is stable for dt < factor rho c h^2 / k (eq. 25), with time scaling f
+  // Explicit conduction is stable for dt < factor rho c h^2 / k (eq. 26), with time scaling f
   // speeding the conduction up f times. Uses the properties of the last thermal pass.
   if (!settings_.thermal.enabled) return std::numeric_limits<double>::infinity();
   const double* rho = fields_.f64(field::density);
@@ -546,7 +554,7 @@ void Simulation::check_stability() const {
       if (!finite3(x + 3 * i) || !finite3(v + 3 * i)) bad = std::min(bad, i);
     if (bad < count_)
       throw InstabilityError(step_, time_, ids[bad], finite3(x + 3 * bad) ? field::velocity : field::position,
-                             "value is not finite (NaN or Inf)");
+                             "value is not finite (NaN or Inf)" + at_position(x, bad));
     if (step_ % 10 == 0) {
       const double* s = fields_.f64(field::deviatoric_stress);
       const double* p = fields_.f64(field::pressure);
@@ -557,7 +565,8 @@ void Simulation::check_stability() const {
         if (!ok) bad = std::min(bad, i);
       }
       if (bad < count_)
-        throw InstabilityError(step_, time_, ids[bad], field::deviatoric_stress, "stress is not finite (NaN or Inf)");
+        throw InstabilityError(step_, time_, ids[bad], field::deviatoric_stress,
+                               "stress is not finite (NaN or Inf)" + at_position(x, bad));
       // Particles leaving the domain: farther from the initial bounding box than its own size
       // (or than 100 spacings for a thin scene) means a particle was ejected.
 #pragma omp parallel for reduction(min : bad) schedule(static)
@@ -581,7 +590,8 @@ void Simulation::check_stability() const {
                                "kinetic energy " + format_g(ke) + " J exceeds twice the energy put in (" +
                                    format_g(budget) + " J: initial kinetic energy plus the work of tools and "
                                    "prescribed velocities): energy is being "
-                                   "created numerically; fastest particle at " + format_g(speed) + " m/s");
+                                   "created numerically; fastest particle at " + format_g(speed) + " m/s" +
+                                   at_position(x, fastest));
       }
     }
     if (dt_ < 1e-3 * dt_initial_) {
@@ -589,7 +599,8 @@ void Simulation::check_stability() const {
       const auto [fastest, vmax] = fastest_particle(v, nm);
       throw InstabilityError(step_, time_, ids[fastest], field::velocity,
                              "time step collapsed to " + format_g(dt_) + " s (< 1e-3 of the initial " +
-                                 format_g(dt_initial_) + " s); speed " + format_g(vmax) + " m/s");
+                                 format_g(dt_initial_) + " s); speed " + format_g(vmax) + " m/s" +
+                                 at_position(x, fastest));
     }
   }
   if (settings_.thermal.enabled && step_ % 10 == 0) {
@@ -600,7 +611,8 @@ void Simulation::check_stability() const {
     if (bad < count_)
       throw InstabilityError(step_, time_, ids[bad], field::temperature,
                              "temperature " + format_g(fields_.f64(field::temperature)[bad]) +
-                                 " K is not finite or negative (conduction unstable? lower thermal.time_step_factor)");
+                                 " K is not finite or negative" + at_position(fields_.f64(field::position), bad) +
+                                 " (conduction unstable? lower thermal.time_step_factor)");
   }
 }
 
@@ -657,7 +669,7 @@ void Simulation::mechanics_rates() {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) rho[i] += dt_ * drho[i];
   jaumann_rotation(L, dt_, S, n);
-  // Materials see the physical density: mass scaling multiplied the inertial one (eq. 23).
+  // Materials see the physical density: mass scaling multiplied the inertial one (eq. 24).
   const double* material_density = rho;
   if (settings_.mass_scaling != 1.0) {
     physical_density_.resize(n);
@@ -684,7 +696,6 @@ void Simulation::mechanics_rates() {
     materials_[b.material]->update_stress(batch);
     if (need_yield_) materials_[b.material]->yield_stress(batch, yield_scratch_.data() + b.first);
   }
-  internal_energy_ += dt_ * stress_power(m, rho, S, p, L, n);  // eq. 26
   corrected_stress(p, S, correction, stress_c, n);
   if (artificial) {
     stress_over_density_squared(p, S, rho, sigma_over_rho2, n);
@@ -694,6 +705,10 @@ void Simulation::mechanics_rates() {
   // corrected gradient used, as the energy consistency of eq. 7 requires.
   momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, x, v, m, rho, volume, stress_c,
                 settings_.artificial_stress, artificial, a, n);
+  // Internal energy: the work done against the internal forces (elastic storage, plastic and
+  // viscous dissipation), with the step-centred velocity so that the energy balance of a free
+  // body closes to round-off (eq. 27).
+  internal_energy_ += internal_work(m, v, a, dt_, n);
   std::fill(fc, fc + 3 * n, 0.0);
   contacts_ = contact_.apply(tools_, x, v, m, need_yield_ ? yield_scratch_.data() : nullptr, n, dt_, fc);
 #pragma omp parallel for schedule(static)
@@ -726,13 +741,13 @@ void Simulation::thermal_rates() {
   particle_volume(m, rho, volume, n);
   evaluate_thermal_properties();
   std::fill(heat_W_.begin(), heat_W_.end(), 0.0);
-  heat_conduction(*nl, settings_.kernel, h_, x, volume, T, conductivity_.data(), heat_W_.data(), n);  // eq. 19
+  heat_conduction(*nl, settings_.kernel, h_, x, volume, T, conductivity_.data(), heat_W_.data(), n);  // eq. 20
   if (any_convection_) {
-    surface_area(*nl, settings_.kernel, h_, x, volume, area_.data(), n);  // eq. 21
-    convection(hc, area_.data(), T, settings_.thermal.ambient_temperature_K, heat_W_.data(), n);  // eq. 22
+    surface_area(*nl, settings_.kernel, h_, x, volume, area_.data(), n);  // eq. 22
+    convection(hc, area_.data(), T, settings_.thermal.ambient_temperature_K, heat_W_.data(), n);  // eq. 23
   }
   // m c dT/dt = f (Q_conduction + Q_convection) + m q_plastic with physical masses; time scaling f
-  // speeds up the heat flow to keep pace with the f-times faster deformation (eq. 24).
+  // speeds up the heat flow to keep pace with the f-times faster deformation (eq. 25).
   const double f = settings_.time_scaling, inv_s = 1.0 / settings_.mass_scaling;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
@@ -754,7 +769,7 @@ void Simulation::evaluate_thermal_properties() {
 void Simulation::integrate() {
   // Symplectic Euler (leapfrog with velocities at half steps): v^{n+1/2} = v^{n-1/2} + dt a^n,
   // x^{n+1} = x^n + dt v^{n+1/2}  (eq. 14); with XSPH the particles move with the smoothed
-  // velocity (eq. 18).
+  // velocity (eq. 19).
   const std::size_t n = mechanical_count_;
   if (n > 0) {
     double* x = fields_.f64(field::position);
@@ -986,6 +1001,12 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     result.message = e.what();
     // Last frame for diagnosis (the state that blew up).
     try { write_frame(); } catch (...) {}
+    // Full-precision state of every field for diagnosis (h5dump / h5py).
+    try {
+      io::write_particle_dump(out_dir / "instability_dump.h5", fields_, count_, time_, step_);
+      result.message += "; state dumped to instability_dump.h5";
+    } catch (const std::exception&) {
+    }
   }
   progress.finish();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

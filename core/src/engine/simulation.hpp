@@ -27,14 +27,14 @@ struct CoreSettings {
   ArtificialViscosity viscosity;
   ArtificialStress artificial_stress;
   ContactSettings contact;
-  double mass_scaling = 1.0;  ///< eq. 23
-  double time_scaling = 1.0;  ///< eq. 24
-  double xsph = 0.0;          ///< eq. 18, 0: off
+  double mass_scaling = 1.0;  ///< eq. 24
+  double time_scaling = 1.0;  ///< eq. 25
+  double xsph = 0.0;          ///< eq. 19, 0: off
   struct Thermal {
     bool enabled = false;
     double initial_temperature_K = 293.15, ambient_temperature_K = 293.15;
     double convection_coefficient = 0.0;  ///< W/(m^2 K) on free surfaces unless the process sets it
-    double time_step_factor = 0.1;        ///< eq. 25
+    double time_step_factor = 0.1;        ///< eq. 26
   } thermal;
   double end_time_s = 0.0;
   double output_interval_s = 0.0;

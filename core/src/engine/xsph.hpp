@@ -1,4 +1,4 @@
-// XSPH velocity smoothing (Monaghan 1989; docs/theory.md eq. 18): particles move with
+// XSPH velocity smoothing (Monaghan 1989; docs/theory.md eq. 19): particles move with
 //   dx_i/dt = v_i + epsilon sum_j (m_j / rho_ij) (v_j - v_i) W_ij,  rho_ij = (rho_i + rho_j)/2,
 // which keeps the lattice orderly in high-speed flow without changing the momentum equation.
 #pragma once
