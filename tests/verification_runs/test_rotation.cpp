@@ -114,35 +114,54 @@ TEST(RigidRotation, PrescribedRotationKeepsStressInvariants) {
   EXPECT_LT(fallback, first.size() / 4) << line;  // the check must cover most of the disc
 }
 
-TEST(RigidRotation, FreeSpinningDiscMomentum) {
-  const RunResult r = run_case("spinning_disc.json", "spinning_disc", {});
-  ASSERT_EQ(r.code, 0) << r.err;
+struct SpinResult {
+  double dp = 0, dh = 0;
+  std::string line;
+};
+
+SpinResult spin(const std::string& tag, const std::vector<std::string>& sets) {
+  SpinResult out;
+  const RunResult r = run_case("spinning_disc.json", tag, sets);
+  EXPECT_EQ(r.code, 0) << r.err;
   const History h = read_history(r.out / "history.csv");
   const json summary = read_summary(r.out);
   const auto& hz = h["angular_momentum_z_kg_m2_s"];
   const auto& px = h["momentum_x_kg_m_s"];
   const auto& py = h["momentum_y_kg_m_s"];
   const auto& pz = h["momentum_z_kg_m_s"];
-  // Scale of the linear momentum: sum m |v| = sum m w r, from H = sum m w r^2 >= sum m |v| r_min;
-  // here through the kinetic energy: sum m |v| >= 2 KE / v_max, v_max = w R.
+  // Scale of the linear momentum: sum m |v| >= 2 KE / v_max, v_max = w R.
   const double omega = 2.0 * std::numbers::pi, radius = 0.05;
   const double momentum_scale = 2.0 * h["kinetic_energy_J"].front() / (omega * radius);
-  double dp = 0, dh = 0;
   for (std::size_t k = 0; k < h.rows; ++k) {
-    dp = std::max(dp, std::hypot(px[k] - px[0], py[k] - py[0], pz[k] - pz[0]) / momentum_scale);
-    dh = std::max(dh, std::abs(hz[k] - hz[0]) / std::abs(hz[0]));
+    out.dp = std::max(out.dp, std::hypot(px[k] - px[0], py[k] - py[0], pz[k] - pz[0]) / momentum_scale);
+    out.dh = std::max(out.dh, std::abs(hz[k] - hz[0]) / std::abs(hz[0]));
   }
-  const double final_change = (hz.back() - hz[0]) / hz[0];
   char line[300];
   std::snprintf(line, sizeof line,
-                "spinning_disc: %lld particles, %lld steps, one revolution: linear momentum max change %.3e of sum m|v|; "
-                "angular momentum max relative change %.4f, final %+.4f (target 1e-6 not reached)\n",
-                summary["particles"].get<long long>(), summary["steps"].get<long long>(), dp, dh, final_change);
+                "spinning_disc (%s): %lld particles, %lld steps, one revolution: linear momentum max change %.3e of "
+                "sum m|v|; angular momentum max relative change %.3e\n",
+                tag.c_str(), summary["particles"].get<long long>(), summary["steps"].get<long long>(), out.dp, out.dh);
+  out.line = line;
   std::printf("%s", line);
   record("verification_results.txt", line);
-  EXPECT_LT(dp, 1e-12) << line;
-  // Regression bound on a known shortfall (measured 0.68 at dx = 10 mm; docs/verification.md).
-  EXPECT_LT(dh, 0.75) << line;
+  return out;
+}
+
+// Free spinning disc, one revolution. The corrected momentum equation (theory eq. 7) exerts no net
+// torque wherever the kernel correction holds (sum_j V_j x_ij (x) C grad W = -I with sigma
+// symmetric), the viscosity is central, and the leapfrog update conserves angular momentum for
+// torque-free forces: without artificial stress the angular momentum is conserved to round-off,
+// tolerance 1e-12 (measured 8e-16). The artificial stress (eq. 9) is non-central by design (a
+// tensor on the pair direction); with it (the default, epsilon = 0.3) the 1e-6 is NOT met:
+// measured 5.9e-6 at 5 particles per radius (this case) and 1.6e-6 at 10. The 1e-5 asserted here is
+// a regression bound on that known, stated deviation, not a claim of the 1e-6.
+TEST(RigidRotation, FreeSpinningDiscMomentum) {
+  const SpinResult plain = spin("spinning_disc_no_as", {"numerics.artificial_stress.epsilon=0"});
+  EXPECT_LT(plain.dp, 1e-12) << plain.line;
+  EXPECT_LT(plain.dh, 1e-12) << plain.line;
+  const SpinResult with_as = spin("spinning_disc", {});
+  EXPECT_LT(with_as.dp, 1e-12) << with_as.line;
+  EXPECT_LT(with_as.dh, 1e-5) << with_as.line;  // reported: 5.9e-6 at 5 particles per radius
 }
 
 }  // namespace

@@ -385,6 +385,18 @@ class Generic final : public Process {
   void measure(ProcessContext& ctx) override {
     FieldRegistry& f = *ctx.fields;
     refresh(f);
+    // Mass-weighted mean temperature of each body (thermal cases), a summary metric.
+    if (const double* T = f.f64_if(field::temperature)) {
+      const double* m = f.f64(field::mass);
+      const std::int64_t* body = f.i64(field::body);
+      std::vector<double> mt(bodies_.size(), 0.0), ms(bodies_.size(), 0.0);
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        mt[static_cast<std::size_t>(body[i])] += m[i] * T[i];
+        ms[static_cast<std::size_t>(body[i])] += m[i];
+      }
+      body_mean_temperature_.resize(bodies_.size());
+      for (std::size_t b = 0; b < bodies_.size(); ++b) body_mean_temperature_[b] = ms[b] > 0.0 ? mt[b] / ms[b] : 0.0;
+    }
     const double* x = f.f64(field::position);
     for (Probe& p : probes_) {
       const std::size_t i = p.index;
@@ -455,6 +467,8 @@ class Generic final : public Process {
       const double period = oscillation_period(p);
       if (period > 0.0) m[key + "_period_s"] = period;
     }
+    for (std::size_t b = 0; b < body_mean_temperature_.size(); ++b)
+      m[bodies_[b].string("name") + "_temperature_mean_K"] = body_mean_temperature_[b];
     return m;
   }
 
@@ -583,6 +597,7 @@ class Generic final : public Process {
   std::vector<Probe> probes_;
   std::vector<std::pair<double, double>> plane_velocity_;
   double momentum_[3] = {0, 0, 0}, angular_momentum_[3] = {0, 0, 0};
+  std::vector<double> body_mean_temperature_;
 };
 
 const PluginDescriptor& descriptor() {

@@ -1,0 +1,57 @@
+// Verification 3 of the SPH-core issue (docs/verification.md, "Oscillating plate"): the clamped
+// beam of Gray, Monaghan & Swift (2001), cases/verification/oscillating_plate.json, released with
+// its first-mode velocity shape. Reference: the Euler-Bernoulli period of the 3D beam of square
+// section, T = 2 pi L^2 / (1.8751^2 sqrt(E H^2 / (12 rho))) = 0.27684 s (Timoshenko's shear and
+// rotary-inertia correction at L/H = 10 is +0.6 %).
+//
+// What this test asserts, and what it does not: the issue asks for the period within 5 % of the
+// Euler-Bernoulli value. Measured (docs/bench/oscillating_plate/bench.csv): +34.3 % at 4 particles
+// through the thickness, +16.6 % at 6, +10.6 % at 8 (observed orders 1.8 and 1.6); 5 % would need
+// about 12-16 particles through the thickness, 10-30 min of CPU, too long for CI. The test
+// therefore asserts the convergence it can afford to show (4 and 6 particles through the thickness):
+// the error falls with an observed order of at least 1 and the oscillation is clean (a period is
+// detected, the amplitude stays within 20 % of v0 / omega measured). It does NOT claim 5 %.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "run_helpers.hpp"
+
+namespace {
+
+using namespace sphforge_verification;
+
+constexpr double kPeriod = 0.27684;  // s, Euler-Bernoulli
+
+double period_at(const std::string& spacing) {
+  const RunResult r = run_case("oscillating_plate.json", "plate_" + spacing.substr(0, spacing.find(' ')),
+                               {"process.particle_spacing=" + spacing, "run.end_time=0.8 s"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  const json summary = read_summary(r.out);
+  const json& m = summary["metrics"];
+  EXPECT_TRUE(m.contains("tip_displacement_y_period_s")) << "no oscillation period detected";
+  if (!m.contains("tip_displacement_y_period_s")) return 0.0;
+  const double period = m["tip_displacement_y_period_s"].get<double>();
+  // Amplitude against v0 / omega with the measured omega: a clean single-mode oscillation.
+  const double omega = 2.0 * 3.14159265358979 / period, expected = 0.05 / omega;
+  EXPECT_NEAR(m["tip_displacement_y_max_m"].get<double>(), expected, 0.2 * expected);
+  return period;
+}
+
+TEST(OscillatingPlate, PeriodConvergesTowardsEulerBernoulli) {
+  const double coarse = period_at("5 mm"), fine = period_at("3.3333333 mm");
+  const double e_coarse = (coarse - kPeriod) / kPeriod, e_fine = (fine - kPeriod) / kPeriod;
+  const double order = std::log(std::abs(e_coarse) / std::abs(e_fine)) / std::log(1.5);
+  char line[300];
+  std::snprintf(line, sizeof line,
+                "oscillating_plate: Euler-Bernoulli %.5f s; H/4: %.5f s (%+.2f %%); H/6: %.5f s (%+.2f %%); observed "
+                "order %.2f\n",
+                kPeriod, coarse, 100 * e_coarse, fine, 100 * e_fine, order);
+  std::printf("%s", line);
+  record("verification_results.txt", line);
+  EXPECT_LT(std::abs(e_fine), std::abs(e_coarse)) << line;
+  EXPECT_GT(order, 1.0) << line;
+}
+
+}  // namespace
