@@ -1,6 +1,7 @@
 // Mirror planes and rotationally periodic sectors (docs/theory.md section 11, eqs. 28-32).
 #include "engine/symmetry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -174,6 +175,14 @@ void Symmetry::select(const double* x, std::size_t n, double range) {
   const double coincide = 1e-9 * range;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    // An image lies in the image of the region, whose interior the region's does not overlap: its
+    // distance to the region is at least the source's distance to the region's boundary (the cuts).
+    // Most particles are farther than `range` from every cut and need no image test.
+    double to_cut = std::numeric_limits<double>::infinity();
+    for (const auto& p : settings_.mirror_planes) to_cut = std::min(to_cut, std::abs(p.normal.dot(xi - p.point)));
+    if (settings_.sector_angle_rad > 0.0)
+      to_cut = std::min({to_cut, half_plane_distance(xi, 0.0), half_plane_distance(xi, settings_.sector_angle_rad)});
+    if (!(to_cut < range)) continue;
     for (std::size_t k = 0; k < images_.size(); ++k) {
       const Vec y = images_[k].Q * xi + images_[k].t;
       if ((y - xi).norm() < coincide) continue;  // a particle on a cut is its own image
