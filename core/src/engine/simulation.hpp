@@ -76,10 +76,13 @@ class Simulation {
   /// Ghost particles (images across the symmetry cuts) of the last neighbour-list build.
   std::size_t ghost_count() const { return symmetry_.ghost_count(); }
   long long neighbour_builds() const { return neighbours_.builds(); }
-  /// Memory held for the particles: fields, neighbour lists, contact and pass scratch (bytes).
+  /// Memory held for the particles: fields, neighbour lists, contact, pass scratch and the symmetry
+  /// ghosts' extended arrays (bytes).
   std::size_t memory_bytes() const {
     return fields_.bytes() + neighbours_.bytes() + contact_.bytes() +
-           (scratch_.capacity() + yield_scratch_.capacity()) * sizeof(double);
+           (scratch_.capacity() + yield_scratch_.capacity() + ext_x_.capacity() + ext_v_.capacity() +
+            ext_m_.capacity() + ext_rho_.capacity() + ext_T_.capacity()) *
+               sizeof(double);
   }
   /// The particles are reordered by cell (Morton order within each body, engine/reorder.hpp)
   /// just before every this-many-th neighbour-list build, starting with the first.
