@@ -167,7 +167,11 @@ int check_case(const Options& o) {
   const CaseDocument doc = load_case(o.case_path, o.overrides);
   Simulation sim(doc, loader);
   std::cout << "case '" << sim.settings().case_name << "' is valid: " << sim.particle_count() << " particles, "
-            << sim.tools().size() << " tools\npasses:\n";
+            << sim.tools().size() << " tools\n";
+  if (sim.symmetry().active())
+    std::cout << "symmetry: the particles of 1/" << sim.symmetry().multiplier()
+              << " of the scene are simulated, images across the cuts are ghosts (docs/theory.md section 11)\n";
+  std::cout << "passes:\n";
   for (const auto& pass : sim.passes()) std::cout << "  " << pass.name << "\n";
   std::cout << "fields allocated:";
   for (const auto& name : sim.fields().names()) std::cout << " " << name;

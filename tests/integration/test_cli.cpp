@@ -595,6 +595,28 @@ TEST_F(Cli, InstabilityExitsWithThreeAndLocatesIt) {
 
 // --- check and plugins --------------------------------------------------------------------------
 
+TEST_F(Cli, CheckClipsTheSceneToTheSymmetryRegionAndRejectsBadSymmetry) {
+  // numerics.symmetry (docs/theory.md section 11): a 90 deg sector keeps a quarter of the particles
+  // of the verification cylinder (3792); unsupported settings are input errors with a pointer.
+  const std::string cylinder =
+      std::string(SPHFORGE_SOURCE_DIR) + "/cases/verification/spinning_compressed_cylinder.json";
+  const Result sector = run({"check", cylinder, "--set", "numerics.symmetry.sector.angle=90 deg"});
+  ASSERT_EQ(sector.code, 0) << describe(sector);
+  EXPECT_TRUE(contains(sector.out, "is valid: 948 particles")) << sector.out;
+  EXPECT_TRUE(contains(sector.out, "symmetry: the particles of 1/4 of the scene")) << sector.out;
+  const Result angle = run({"check", cylinder, "--set", "numerics.symmetry.sector.angle=70 deg"});
+  EXPECT_EQ(angle.code, 2) << describe(angle);
+  EXPECT_TRUE(contains(angle.err, "/numerics/symmetry: the sector angle must be 360 deg / N")) << angle.err;
+  const Result axial = run({"check", cylinder, "--set", "numerics.symmetry.sector.angle=90 deg", "--set",
+                            R"(numerics.symmetry.mirror_planes=[{"normal": [1, 0, 0]}])"});
+  EXPECT_EQ(axial.code, 2) << describe(axial);
+  EXPECT_TRUE(contains(axial.err, "mirror planes must be normal to the sector's axis")) << axial.err;
+  const Result empty = run({"check", cylinder, "--set",
+                            R"(numerics.symmetry.mirror_planes=[{"point": [0, 0, 1], "normal": [0, 0, 1]}])"});
+  EXPECT_EQ(empty.code, 2) << describe(empty);
+  EXPECT_TRUE(contains(empty.err, "has no particle inside the symmetry region")) << empty.err;
+}
+
 TEST_F(Cli, CheckListsPassesAndFieldsWithoutWriting) {
   const Result r = run({"check", kQuickCase});
   ASSERT_EQ(r.code, 0) << describe(r);

@@ -136,6 +136,11 @@ inline Frame read_frame(const fs::path& vtu) {
     f.arrays[arr->GetName()] = std::move(values);
     f.components[arr->GetName()] = nc;
   }
+  // The particle positions (the grid's points) as the array "position".
+  std::vector<double> x(3 * f.count);
+  for (vtkIdType i = 0; i < static_cast<vtkIdType>(f.count); ++i) grid->GetPoint(i, &x[3 * static_cast<std::size_t>(i)]);
+  f.arrays["position"] = std::move(x);
+  f.components["position"] = 3;
   return f;
 }
 

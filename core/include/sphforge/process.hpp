@@ -36,7 +36,9 @@ class SceneBuilder {
  public:
   virtual ~SceneBuilder() = default;
   /// Adds a body and returns its index. Mechanical bodies come first in the particle arrays,
-  /// thermal-only bodies after them, each in the order added.
+  /// thermal-only bodies after them, each in the order added. With `numerics.symmetry` the core
+  /// keeps only the particles inside the symmetry region (docs/theory.md section 11): a process
+  /// builds whole bodies and sees, through ProcessContext, only the simulated part.
   virtual std::size_t add_body(BodySpec body) = 0;
   /// Shorthand: a mechanical body at rest made of the case's material.
   std::size_t add_body(const std::string& name, const std::vector<Eigen::Vector3d>& positions, double spacing_m) {

@@ -37,9 +37,9 @@ bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius,
   return moved != 0;
 }
 
-void NeighbourList::rebuild(const double* x, std::size_t n, double radius, double skin) {
-  build(x, n, radius + skin);
-  x_at_build_.assign(x, x + 3 * n);
+void NeighbourList::rebuild(const double* x, std::size_t n, double radius, double skin, std::size_t query) {
+  build(x, n, radius + skin, query);
+  x_at_build_.assign(x, x + 3 * std::min(n, query));
   radius_at_build_ = radius + skin;
   ++builds_;
 }
@@ -50,10 +50,11 @@ bool NeighbourList::update(const double* x, std::size_t n, double radius, double
   return true;
 }
 
-void NeighbourList::build(const double* x, std::size_t n, double radius) {
+void NeighbourList::build(const double* x, std::size_t n, double radius, std::size_t query) {
   if (n > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("too many particles");
-  end_.resize(n);
-  const std::size_t nchunks = (n + kChunk - 1) / kChunk;
+  const std::size_t nq = std::min(n, query);  // particles that get a list
+  end_.resize(nq);
+  const std::size_t nchunks = (nq + kChunk - 1) / kChunk;
   chunks_.resize(nchunks);
   chunk_used_.assign(nchunks, 0);
   base_.assign(nchunks, nullptr);
@@ -116,7 +117,7 @@ void NeighbourList::build(const double* x, std::size_t n, double radius) {
     fill.assign(cell_start_.begin(), cell_start_.end() - 1);
     fill.resize(std::max(n, ncells));
     for (std::size_t i = 0; i < n; ++i) sorted_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
-    end_.resize(n);
+    end_.resize(nq);
   }
 #pragma omp parallel for schedule(static)
   for (std::size_t s = 0; s < n; ++s)
@@ -133,7 +134,7 @@ void NeighbourList::build(const double* x, std::size_t n, double radius) {
   for (std::size_t c = 0; c < nchunks; ++c) {
     std::vector<std::uint32_t>& out = chunks_[c];
     std::size_t used = 0;
-    const std::size_t first = c * kChunk, last = std::min(n, first + kChunk);
+    const std::size_t first = c * kChunk, last = std::min(nq, first + kChunk);
     for (std::size_t i = first; i < last; ++i) {
       const std::uint32_t cell = cell_of_[i];
       const std::int64_t cx = cell % dims[0], cy = (cell / dims[0]) % dims[1], cz = cell / (dims[0] * dims[1]);

@@ -24,15 +24,17 @@ class NeighbourList {
   bool update(const double* x, std::size_t count, double radius, double skin);
   /// The test of update(): true when the lists must be rebuilt before they are used at x.
   bool needs_rebuild(const double* x, std::size_t count, double radius, double skin) const;
-  /// The rebuild of update(), unconditionally (counts as a build).
-  void rebuild(const double* x, std::size_t count, double radius, double skin);
+  /// The rebuild of update(), unconditionally (counts as a build). With `query` < count, lists
+  /// are built only for particles [0, query), whose neighbours may be any of the `count` points
+  /// (symmetry ghosts [query, count): engine/symmetry.hpp); needs_rebuild() then watches [0, query).
+  void rebuild(const double* x, std::size_t count, double radius, double skin, std::size_t query = SIZE_MAX);
   long long builds() const { return builds_; }
 
   /// Builds lists of all j != i with |x_i - x_j| < radius (possibly a few more pairs closer than
   /// radius (1 + 1e-5) + 1e-6 * the cloud's extent: the search runs in single precision with that
   /// margin, so the lists are always a superset). x: 3 doubles per particle.
   /// Allocation-free once the arrays have grown to their working size.
-  void build(const double* x, std::size_t count, double radius);
+  void build(const double* x, std::size_t count, double radius, std::size_t query = SIZE_MAX);
 
   std::size_t count() const { return end_.size(); }
   const std::uint32_t* begin(std::size_t i) const {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <numbers>
 
 #include "backend.hpp"
 #include "engine/energy.hpp"
@@ -17,6 +18,7 @@
 #include "io/output_writers.hpp"
 #include "io/particle_dump.hpp"
 #include "sphforge/errors.hpp"
+#include "sphforge/units.hpp"
 #include "sphforge/version.hpp"
 
 namespace sphforge {
@@ -67,8 +69,59 @@ const ParamSpecs& numerics_specs() {
                         "processes run f times faster; rate laws and heat flow are corrected (theory eq. 25)", 1.0,
                         1e6),
       ParamSpec::number("xsph", "1", 0.0, "XSPH velocity smoothing epsilon (theory eq. 19; 0: off)", 0.0, 1.0),
+      ParamSpec::object("symmetry",
+                        "mirror planes and/or a rotationally periodic sector about z: only the particles inside "
+                        "are simulated, their images across the cuts are ghosts (theory section 11)"),
   };
   return specs;
+}
+
+const ParamSpecs& symmetry_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::array("mirror_planes",
+                       "mirror planes {point, normal}, pairwise orthogonal; the normal points into the simulated side"),
+      ParamSpec::object("sector", "rotationally periodic sector about the z axis: {angle, axis}"),
+  };
+  return specs;
+}
+
+const ParamSpecs& mirror_plane_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::array("point", "a point of the plane [x, y, z] (m; default the origin)"),
+      ParamSpec::array("normal", "normal [nx, ny, nz] pointing into the simulated half-space", true),
+  };
+  return specs;
+}
+
+const ParamSpecs& sector_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::number("angle", "rad", std::nullopt,
+                        "sector angle 360 deg / N (N >= 2 integer), from the +x axis counter-clockwise", 0.0),
+      ParamSpec::string("axis", std::string("z"), "axis of the sector (through the origin)", {"z"}),
+  };
+  return specs;
+}
+
+/// Three numbers (SI) or quantity strings in `unit`.
+Eigen::Vector3d vector3(const ParamValues& p, const std::string& name, const std::string& unit) {
+  const json& value = p.raw(name);
+  if (!value.is_array() || value.size() != 3) p.fail(name, "expected an array of three values in " + unit);
+  Eigen::Vector3d out;
+  for (int d = 0; d < 3; ++d) {
+    const json& c = value[static_cast<std::size_t>(d)];
+    if (c.is_number()) {
+      out[d] = c.get<double>();
+    } else if (c.is_string()) {
+      try {
+        out[d] = parse_quantity(c.get<std::string>(), unit);
+      } catch (const std::invalid_argument& e) {
+        p.fail(name, "component " + std::to_string(d) + ": " + e.what());
+      }
+    } else {
+      p.fail(name, "component " + std::to_string(d) + ": expected a number or a \"value unit\" string");
+    }
+  }
+  return out;
 }
 
 const ParamSpecs& viscosity_specs() {
@@ -220,11 +273,28 @@ class Simulation::Builder : public SceneBuilder {
  public:
   std::vector<BodySpec> bodies;
   std::vector<RigidTool> tools;
+  const Symmetry* symmetry = nullptr;  ///< active: bodies are clipped to the symmetry region
 
   std::size_t add_body(BodySpec body) override {
     if (!(body.spacing_m > 0.0)) throw std::invalid_argument("body '" + body.name + "': spacing must be positive");
     if (!body.velocities.empty() && body.velocities.size() != body.positions.size())
       throw std::invalid_argument("body '" + body.name + "': one initial velocity per particle expected");
+    if (symmetry && symmetry->active()) {
+      // The core keeps only the particles inside the symmetry region (eq. 30): processes build
+      // their whole bodies and need not know about symmetry.
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < body.positions.size(); ++k) {
+        if (!symmetry->inside(body.positions[k])) continue;
+        body.positions[kept] = body.positions[k];
+        if (!body.velocities.empty()) body.velocities[kept] = body.velocities[k];
+        ++kept;
+      }
+      body.positions.resize(kept);
+      if (!body.velocities.empty()) body.velocities.resize(kept);
+      if (kept == 0)
+        throw std::invalid_argument("body '" + body.name + "' has no particle inside the symmetry region "
+                                    "(numerics.symmetry)");
+    }
     bodies.push_back(std::move(body));
     return bodies.size() - 1;
   }
@@ -269,6 +339,27 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.mass_scaling = mass_scaling;
   settings_.time_scaling = numerics.number("time_scaling");
   settings_.xsph = numerics.number("xsph");
+  if (numerics.has("symmetry") && numerics.raw("symmetry").is_object()) {
+    const ParamValues sym = numerics.sub("symmetry", symmetry_specs());
+    if (sym.has("mirror_planes") && sym.raw("mirror_planes").is_array())
+      for (std::size_t k = 0; k < sym.raw("mirror_planes").size(); ++k) {
+        const ParamValues plane = sym.element("mirror_planes", k, mirror_plane_specs());
+        SymmetrySettings::Plane pl;
+        if (plane.has("point") && !plane.raw("point").empty()) pl.point = vector3(plane, "point", "m");
+        pl.normal = vector3(plane, "normal", "1");
+        settings_.symmetry.mirror_planes.push_back(pl);
+      }
+    if (sym.has("sector") && sym.raw("sector").is_object() && !sym.raw("sector").empty()) {
+      const ParamValues sector = sym.sub("sector", sector_specs());
+      settings_.symmetry.sector_angle_rad = sector.number("angle");
+    }
+    try {
+      symmetry_ = Symmetry(settings_.symmetry);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(file, "/numerics/symmetry", e.what());
+    }
+    settings_.symmetry = symmetry_.settings();
+  }
 
   // Plugins: materials, process, contact laws, controllers.
   std::vector<std::string> material_names;  // plugin name of each material, for the pass list
@@ -296,6 +387,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
 
   // Build the scene.
   Builder builder;
+  builder.symmetry = &symmetry_;
   try {
     process_->build(builder);
   } catch (const std::invalid_argument& e) {
@@ -333,6 +425,9 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       throw InputError(file, mat == 0 ? "/material" : "/materials/" + json_pointer_escape(material_keys_[mat]),
                        "the case has a \"thermal\" section but this material has no thermal properties "
                        "(give its specific_heat and conductivity)");
+    if (!spec.mechanics && symmetry_.active())
+      throw InputError(file, "/numerics/symmetry", "body '" + spec.name +
+                                                     "' is thermal-only: symmetry supports mechanical bodies only");
     if (!spec.mechanics && !settings_.thermal.enabled)
       throw InputError(file, "/process", "body '" + spec.name +
                                              "' is thermal-only, which needs a \"thermal\" section in the case");
@@ -640,25 +735,42 @@ void Simulation::mechanics_rates() {
   double* heat_source = fields_.f64_if(field::heat_source);
 
   const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
+  const bool sym = symmetry_.active();
   if (neighbours_.needs_rebuild(x, n, search, skin)) {
+    // Symmetry: particles that crossed a cut re-enter through its image (eq. 32).
+    if (sym) symmetry_.wrap(fields_, n);
     // Memory locality: every few rebuilds, first sort the particles by cell (Morton order within
     // each body; every registered field moves, and nothing else indexed by particle outlives a step).
     if (neighbours_.builds() % kReorderEveryBuilds == 0 && reorder_by_cell(fields_, bodies_, search + skin))
       thermal_lists_stale_ = true;  // thermal-only particles moved in the arrays too
-    neighbours_.rebuild(x, n, search, skin);
+    if (sym) {
+      // Ghosts: the images within support + skin of the region (eq. 31); lists for the real
+      // particles only, over real and ghost particles alike.
+      symmetry_.select(x, n, search + skin);
+      neighbours_.rebuild(extend(ext_x_, x, 3, true), n + symmetry_.ghost_count(), search, skin, n);
+    } else {
+      neighbours_.rebuild(x, n, search, skin);
+    }
   }
+  // With symmetry the pair passes read extended arrays [real | ghosts] of size nt = n + g; the
+  // ghosts' values are refreshed from their sources right before the pass that reads them.
+  const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
+  const double* xe = sym ? extend(ext_x_, x, 3, true) : x;
+  const double* ve = sym ? extend(ext_v_, v, 3) : v;
+  const double* me = sym ? extend(ext_m_, m, 1) : m;
   // Per-step scratch: volume (1), correction C (6), A = sigma C (9), and for the artificial stress
-  // sigma/rho^2 (6) and R (6) per particle.
+  // sigma/rho^2 (6) and R (6) per particle (nt: ghosts included).
   const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
   const bool corrected = settings_.gradient_correction;
-  scratch_.resize((1 + (corrected ? 6 : 0) + 9 + (with_artificial_stress ? 12 : 0)) * n);
+  scratch_.resize((1 + (corrected ? 6 : 0) + 9 + (with_artificial_stress ? 12 : 0)) * nt);
   double* volume = scratch_.data();
-  double* correction = corrected ? volume + n : nullptr;
-  double* stress_c = volume + (corrected ? 7 : 1) * n;
-  double* sigma_over_rho2 = with_artificial_stress ? stress_c + 9 * n : nullptr;
-  double* artificial = with_artificial_stress ? sigma_over_rho2 + 6 * n : nullptr;
-  particle_volume(m, rho, volume, n);
-  velocity_gradient(neighbours_, settings_.kernel, h_, x, v, volume, corrected, L,
+  double* correction = corrected ? volume + nt : nullptr;
+  double* stress_c = volume + (corrected ? 7 : 1) * nt;
+  double* sigma_over_rho2 = with_artificial_stress ? stress_c + 9 * nt : nullptr;
+  double* artificial = with_artificial_stress ? sigma_over_rho2 + 6 * nt : nullptr;
+  // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
+  particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
+  velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, corrected, L,
                     fields_.f64_if(field::gradient_condition), correction, n);
   continuity_density_rate(L, rho, drho, n);
   // The density advances here, before the material's equation of state, so that the pressure and
@@ -701,9 +813,17 @@ void Simulation::mechanics_rates() {
     stress_over_density_squared(p, S, rho, sigma_over_rho2, n);
     artificial_stress(sigma_over_rho2, settings_.artificial_stress.epsilon, artificial, n);
   }
+  const double* rho_e = rho;
+  if (sym) {
+    // The ghosts' A = sigma C and R transform as tensors, A' = Q A Q^T (eq. 31), and their
+    // density is the source's new one, as for the real particles.
+    symmetry_.fill_tensors(stress_c, n);
+    if (artificial) symmetry_.fill_symmetric(artificial, n);
+    rho_e = extend(ext_rho_, rho, 1);
+  }
   // The volumes are those of the step's start (before the density update): the same V_j the
   // corrected gradient used, as the energy consistency of eq. 7 requires.
-  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, x, v, m, rho, volume, stress_c,
+  momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, xe, ve, me, rho_e, volume, stress_c,
                 settings_.artificial_stress, artificial, a, n);
   // Internal energy: the work done against the internal forces (elastic storage, plastic and
   // viscous dissipation), with the step-centred velocity so that the energy balance of a free
@@ -730,6 +850,7 @@ void Simulation::thermal_rates() {
   // Neighbours of every particle: the mechanics lists serve when all particles are mechanical
   // (they were just updated); thermal-only bodies need lists of their own.
   const NeighbourList* nl = &neighbours_;
+  const bool sym = symmetry_.active();  // then every body is mechanical (checked in the constructor)
   if (mechanical_count_ < n) {
     const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
     if (thermal_lists_stale_ || thermal_neighbours_.needs_rebuild(x, n, search, skin))
@@ -737,13 +858,26 @@ void Simulation::thermal_rates() {
     thermal_lists_stale_ = false;
     nl = &thermal_neighbours_;
   }
+  // With symmetry the lists hold ghosts: x, V, T and k are read from extended arrays (eq. 31),
+  // which also keeps the cuts from counting as free surface in the convection area.
+  const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
+  thermal_volume_.resize(nt);
+  conductivity_.resize(nt);
   double* volume = thermal_volume_.data();
   particle_volume(m, rho, volume, n);
   evaluate_thermal_properties();
+  const double* xe = x;
+  const double* Te = T;
+  if (sym) {
+    symmetry_.fill_scalars(volume, n);
+    symmetry_.fill_scalars(conductivity_.data(), n);
+    xe = ext_x_.data();  // filled by mechanics_rates() this step; positions have not moved since
+    Te = extend(ext_T_, T, 1);
+  }
   std::fill(heat_W_.begin(), heat_W_.end(), 0.0);
-  heat_conduction(*nl, settings_.kernel, h_, x, volume, T, conductivity_.data(), heat_W_.data(), n);  // eq. 20
+  heat_conduction(*nl, settings_.kernel, h_, xe, volume, Te, conductivity_.data(), heat_W_.data(), n);  // eq. 20
   if (any_convection_) {
-    surface_area(*nl, settings_.kernel, h_, x, volume, area_.data(), n);  // eq. 22
+    surface_area(*nl, settings_.kernel, h_, xe, volume, area_.data(), n);  // eq. 22
     convection(hc, area_.data(), T, settings_.thermal.ambient_temperature_K, heat_W_.data(), n);  // eq. 23
   }
   // m c dT/dt = f (Q_conduction + Q_convection) + m q_plastic with physical masses; time scaling f
@@ -755,6 +889,16 @@ void Simulation::thermal_rates() {
     const double source = heat_source && i < mechanical_count_ ? physical_mass * heat_source[i] : 0.0;
     dT[i] = (f * heat_W_[i] + source) / (physical_mass * specific_heat_[i]);
   }
+}
+
+double* Simulation::extend(std::vector<double>& ext, const double* src, int components, bool position) {
+  const std::size_t n = mechanical_count_, c = static_cast<std::size_t>(components);
+  ext.resize((n + symmetry_.ghost_count()) * c);
+  std::copy(src, src + n * c, ext.begin());
+  if (components == 1) symmetry_.fill_scalars(ext.data(), n);
+  else if (position) symmetry_.fill_positions(ext.data(), n);
+  else symmetry_.fill_vectors(ext.data(), n);
+  return ext.data();
 }
 
 void Simulation::evaluate_thermal_properties() {
@@ -779,8 +923,12 @@ void Simulation::integrate() {
     for (std::size_t i = 0; i < 3 * n; ++i) v[i] += dt_ * a[i];
     if (settings_.xsph > 0.0) {
       xsph_scratch_.resize(3 * n);
-      xsph_correction(neighbours_, settings_.kernel, h_, settings_.xsph, x, v, fields_.f64(field::mass),
-                      fields_.f64(field::density), xsph_scratch_.data(), n);
+      if (symmetry_.active())  // ghosts: the new velocities; x, m, rho as extended this step
+        xsph_correction(neighbours_, settings_.kernel, h_, settings_.xsph, ext_x_.data(), extend(ext_v_, v, 3),
+                        ext_m_.data(), ext_rho_.data(), xsph_scratch_.data(), n);
+      else
+        xsph_correction(neighbours_, settings_.kernel, h_, settings_.xsph, x, v, fields_.f64(field::mass),
+                        fields_.f64(field::density), xsph_scratch_.data(), n);
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < 3 * n; ++i) x[i] += dt_ * (v[i] + xsph_scratch_[i]);
     } else {
@@ -1028,6 +1176,14 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   summary["threads"] = omp_get_max_threads();
   summary["backend"] = backend_description();
   summary["frames"] = frame;
+  if (symmetry_.active()) {
+    // Every quantity of the outputs (particles, history, tool reactions, process metrics) is the
+    // simulated part's; the full body's reactions are `multiplier` times the axial ones.
+    summary["symmetry"] = {{"multiplier", symmetry_.multiplier()},
+                           {"ghosts", symmetry_.ghost_count()},
+                           {"sector_angle_deg", settings_.symmetry.sector_angle_rad * 180.0 / std::numbers::pi},
+                           {"mirror_planes", settings_.symmetry.mirror_planes.size()}};
+  }
   summary["kinetic_to_work_ratio_max"] = max_kinetic_to_work;
   summary["metrics"] = process_->metrics();
   json versions;

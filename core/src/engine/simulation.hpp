@@ -11,6 +11,7 @@
 #include "engine/contact.hpp"
 #include "engine/neighbours.hpp"
 #include "engine/sph_operators.hpp"
+#include "engine/symmetry.hpp"
 #include "sphforge/case_file.hpp"
 #include "sphforge/plugin_loader.hpp"
 
@@ -30,6 +31,7 @@ struct CoreSettings {
   double mass_scaling = 1.0;  ///< eq. 24
   double time_scaling = 1.0;  ///< eq. 25
   double xsph = 0.0;          ///< eq. 19, 0: off
+  SymmetrySettings symmetry;  ///< numerics.symmetry (section 11, eqs. 28-32); inactive by default
   struct Thermal {
     bool enabled = false;
     double initial_temperature_K = 293.15, ambient_temperature_K = 293.15;
@@ -70,11 +72,17 @@ class Simulation {
   const std::vector<PassInfo>& passes() const { return passes_; }
   const std::vector<RigidTool>& tools() const { return tools_; }
   const NeighbourList& neighbours() const { return neighbours_; }
+  const Symmetry& symmetry() const { return symmetry_; }
+  /// Ghost particles (images across the symmetry cuts) of the last neighbour-list build.
+  std::size_t ghost_count() const { return symmetry_.ghost_count(); }
   long long neighbour_builds() const { return neighbours_.builds(); }
-  /// Memory held for the particles: fields, neighbour lists, contact and pass scratch (bytes).
+  /// Memory held for the particles: fields, neighbour lists, contact, pass scratch and the symmetry
+  /// ghosts' extended arrays (bytes).
   std::size_t memory_bytes() const {
     return fields_.bytes() + neighbours_.bytes() + contact_.bytes() +
-           (scratch_.capacity() + yield_scratch_.capacity()) * sizeof(double);
+           (scratch_.capacity() + yield_scratch_.capacity() + ext_x_.capacity() + ext_v_.capacity() +
+            ext_m_.capacity() + ext_rho_.capacity() + ext_T_.capacity()) *
+               sizeof(double);
   }
   /// The particles are reordered by cell (Morton order within each body, engine/reorder.hpp)
   /// just before every this-many-th neighbour-list build, starting with the first.
@@ -118,6 +126,12 @@ class Simulation {
   std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, sigma/rho^2)
 
   std::size_t count_ = 0, mechanical_count_ = 0;
+  // Symmetry (engine/symmetry.hpp): the ghosts and the extended arrays [real | ghosts] that the
+  // pair passes read; unused (empty) without symmetry.
+  Symmetry symmetry_;
+  std::vector<double> ext_x_, ext_v_, ext_m_, ext_rho_, ext_T_;
+  /// Copies the real part [0, n) of `src` into ext and fills the ghosts; returns ext.data().
+  double* extend(std::vector<double>& ext, const double* src, int components, bool position = false);
   double wave_speed_ = 0.0;  ///< fastest mechanical wave, mass scaling included
   // Thermal scratch (thermal scenes only): properties, heat flow (W) and surface area (m^2).
   std::vector<double> conductivity_, specific_heat_, heat_W_, area_, thermal_volume_, physical_density_;

@@ -237,10 +237,12 @@ class Generic final : public Process {
     }
     for (const ParamValues& q : plane_values_) {
       const double z = q.number("z"), radius = q.number("radius");
-      // A disc in the (r, z) plane, walked so that the workpiece is on its left (tool.hpp).
+      // A disc in the (r, z) plane, walked so that the workpiece is on its left (tool.hpp): the
+      // normal of a segment (dr, dz) is (-dz, dr), so a workpiece above (normal +z) needs dr > 0
+      // (walked outwards) and one below needs the walk inwards, like a ram face.
       std::vector<Eigen::Vector2d> profile = q.string("side") == "above"
-                                                 ? std::vector<Eigen::Vector2d>{{radius, 0.0}, {0.0, 0.0}}
-                                                 : std::vector<Eigen::Vector2d>{{0.0, 0.0}, {radius, 0.0}};
+                                                 ? std::vector<Eigen::Vector2d>{{0.0, 0.0}, {radius, 0.0}}
+                                                 : std::vector<Eigen::Vector2d>{{radius, 0.0}, {0.0, 0.0}};
       RigidTool tool(q.string("name"), profile);
       tool.axial_offset_m = z;
       tool.axial_velocity_m_s = q.number("velocity");
