@@ -354,6 +354,28 @@ const std::string& ParamValues::string(const std::string& name) const {
   return v.get_ref<const std::string&>();
 }
 
+std::vector<double> ParamValues::quantities(const std::string& name, std::size_t count, const std::string& unit) const {
+  const json& value = raw(name);
+  if (!value.is_array() || value.size() != count)
+    fail(name, "expected an array of " + std::to_string(count) + " values in " + unit);
+  std::vector<double> out(count);
+  for (std::size_t c = 0; c < count; ++c) {
+    const json& e = value[c];
+    if (e.is_number()) {
+      out[c] = e.get<double>();
+    } else if (e.is_string()) {
+      try {
+        out[c] = parse_quantity(e.get<std::string>(), unit);
+      } catch (const std::invalid_argument& ex) {
+        fail(name, "component " + std::to_string(c) + ": " + ex.what());
+      }
+    } else {
+      fail(name, "component " + std::to_string(c) + ": expected a number or a \"value unit\" string");
+    }
+  }
+  return out;
+}
+
 ParamValues ParamValues::sub(const std::string& name, const ParamSpecs& specs) const {
   return validate_parameters(raw(name), specs, file_, pointer_of(name));
 }

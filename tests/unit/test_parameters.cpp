@@ -335,3 +335,24 @@ TEST(ParamValues, UnknownNameOrWrongTypeIsLogicError) {
 
 }  // namespace
 }  // namespace sphforge
+
+// ParamValues::quantities: arrays of numbers or quantity strings, converted to SI, with errors at
+// the array's pointer.
+TEST(ParamValuesQuantities, MixedNumbersAndUnitsConvertToSi) {
+  using namespace sphforge;
+  const ParamValues p(json{{"point", {"5 mm", 0.25, "1 cm"}}, {"bad", {"5 kg", 0, 0}}, {"short", {1, 2}}},
+                      "case.json", "/process");
+  const std::vector<double> v = p.quantities("point", 3, "m");
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_DOUBLE_EQ(v[0], 0.005);
+  EXPECT_DOUBLE_EQ(v[1], 0.25);
+  EXPECT_DOUBLE_EQ(v[2], 0.01);
+  try {
+    (void)p.quantities("bad", 3, "m");
+    FAIL() << "a mass given for a length must be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/process/bad"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("component 0"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)p.quantities("short", 3, "m"), InputError);
+}

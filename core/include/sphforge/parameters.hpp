@@ -62,6 +62,10 @@ class ParamValues {
   /// A Quantity parameter converted to SI in `unit`; a wrong unit throws InputError at its pointer.
   double quantity(const std::string& name, const std::string& unit) const;
   bool has(const std::string& name) const;          ///< present (given or defaulted)
+  /// An Array parameter of exactly `count` values, each a number (SI) or a "value unit" string,
+  /// converted to SI in `unit` (e.g. a vector ["5 mm", 0, "1 cm"] in "m"); anything else throws
+  /// InputError at its pointer.
+  std::vector<double> quantities(const std::string& name, std::size_t count, const std::string& unit) const;
 
   /// Validates the Object parameter `name` (or element `index` of an Array) against `specs`.
   ParamValues sub(const std::string& name, const ParamSpecs& specs) const;

@@ -18,7 +18,6 @@
 #include "io/output_writers.hpp"
 #include "io/particle_dump.hpp"
 #include "sphforge/errors.hpp"
-#include "sphforge/units.hpp"
 #include "sphforge/version.hpp"
 
 namespace sphforge {
@@ -104,24 +103,8 @@ const ParamSpecs& sector_specs() {
 
 /// Three numbers (SI) or quantity strings in `unit`.
 Eigen::Vector3d vector3(const ParamValues& p, const std::string& name, const std::string& unit) {
-  const json& value = p.raw(name);
-  if (!value.is_array() || value.size() != 3) p.fail(name, "expected an array of three values in " + unit);
-  Eigen::Vector3d out;
-  for (int d = 0; d < 3; ++d) {
-    const json& c = value[static_cast<std::size_t>(d)];
-    if (c.is_number()) {
-      out[d] = c.get<double>();
-    } else if (c.is_string()) {
-      try {
-        out[d] = parse_quantity(c.get<std::string>(), unit);
-      } catch (const std::invalid_argument& e) {
-        p.fail(name, "component " + std::to_string(d) + ": " + e.what());
-      }
-    } else {
-      p.fail(name, "component " + std::to_string(d) + ": expected a number or a \"value unit\" string");
-    }
-  }
-  return out;
+  const std::vector<double> v = p.quantities(name, 3, unit);
+  return {v[0], v[1], v[2]};
 }
 
 const ParamSpecs& viscosity_specs() {

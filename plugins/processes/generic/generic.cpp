@@ -14,7 +14,6 @@
 #include <Eigen/Geometry>
 
 #include "sphforge/plugin.hpp"
-#include "sphforge/units.hpp"
 
 namespace {
 
@@ -23,48 +22,15 @@ using Vec = Eigen::Vector3d;
 
 /// Reads a 3-vector given as an array of three numbers (SI) or quantity strings in `unit`.
 Vec vector3(const ParamValues& p, const std::string& name, const std::string& unit) {
-  const json& value = p.raw(name);
-  if (!value.is_array() || value.size() != 3) p.fail(name, "expected an array of three values in " + unit);
-  Vec out;
-  for (int d = 0; d < 3; ++d) {
-    const json& c = value[static_cast<std::size_t>(d)];
-    if (c.is_number()) {
-      out[d] = c.get<double>();
-    } else if (c.is_string()) {
-      try {
-        out[d] = parse_quantity(c.get<std::string>(), unit);
-      } catch (const std::invalid_argument& e) {
-        p.fail(name, "component " + std::to_string(d) + ": " + e.what());
-      }
-    } else {
-      p.fail(name, "component " + std::to_string(d) + ": expected a number or a \"value unit\" string");
-    }
-  }
-  return out;
+  const std::vector<double> v = p.quantities(name, 3, unit);
+  return {v[0], v[1], v[2]};
 }
 
 /// Reads a symmetric tensor given as six numbers (SI) or quantity strings in `unit`, VTK order
 /// (xx, yy, zz, xy, yz, xz).
 std::array<double, 6> tensor6(const ParamValues& p, const std::string& name, const std::string& unit) {
-  const json& value = p.raw(name);
-  if (!value.is_array() || value.size() != 6)
-    p.fail(name, "expected an array of six values (xx, yy, zz, xy, yz, xz) in " + unit);
-  std::array<double, 6> out{};
-  for (std::size_t c = 0; c < 6; ++c) {
-    const json& e = value[c];
-    if (e.is_number()) {
-      out[c] = e.get<double>();
-    } else if (e.is_string()) {
-      try {
-        out[c] = parse_quantity(e.get<std::string>(), unit);
-      } catch (const std::invalid_argument& ex) {
-        p.fail(name, "component " + std::to_string(c) + ": " + ex.what());
-      }
-    } else {
-      p.fail(name, "component " + std::to_string(c) + ": expected a number or a \"value unit\" string");
-    }
-  }
-  return out;
+  const std::vector<double> v = p.quantities(name, 6, unit);
+  return {v[0], v[1], v[2], v[3], v[4], v[5]};
 }
 
 /// True when an optional array or object parameter was given (absent ones default to empty).
