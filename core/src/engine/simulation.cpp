@@ -463,7 +463,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       temperature{field::temperature, 1, "K"}, temperature_rate{field::temperature_rate, 1, "K/s"},
       convection_coefficient{field::convection_coefficient, 1, "W/(m^2*K)"},
       heat_source{field::heat_source, 1, "W/kg"};
-  bool any_mechanics = false, any_convection = settings_.thermal.convection_coefficient > 0.0;
+  bool any_mechanics = false;
   for (const BodySpec& b : builder.bodies) any_mechanics = any_mechanics || b.mechanics;
   // Optional passes and fields enter the list only when the case uses them.
   passes_ = {{"particles", {}, {id, body, mass, position}}};
@@ -507,7 +507,6 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     for (const FieldInfo& f : pass.reads) fields_.declare(f, pass.name, Access::Read);
     for (const FieldInfo& f : pass.writes) fields_.declare(f, pass.name, Access::Write);
   }
-  (void)any_convection;
 
   // --- Particles ----------------------------------------------------------------------------------
   for (const auto& b : builder.bodies) count_ += b.positions.size();
