@@ -1,6 +1,7 @@
 // `sphforge bench`: the same case at several particle spacings, each as a child `sphforge run`
 // (so that wait4() reports that run's own peak RSS), then bench.csv, bench.json and bench.png.
 #include "bench_command.hpp"
+#include "output_folder.hpp"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -153,29 +154,9 @@ Reference read_reference(const std::string& file) {
   return ref;
 }
 
-/// The output folder: an explicit --out that exists and is not empty needs --force (and then
-/// nothing is deleted); the default runs/<case>-bench gets a numeric suffix instead. Same rules
-/// as `sphforge run`.
+/// The output folder, by the rules of `sphforge run`; the default is runs/<case>-bench.
 fs::path bench_folder(const BenchOptions& o, const std::string& case_name) {
-  auto occupied = [](const fs::path& p) {
-    std::error_code ec;
-    return fs::exists(p, ec) && !(fs::is_directory(p, ec) && fs::is_empty(p, ec));
-  };
-  if (!o.out.empty()) {
-    const fs::path out(o.out);
-    std::error_code ec;
-    if (fs::exists(out, ec) && !fs::is_directory(out, ec)) throw InputError(o.out, "", "--out names a file, not a folder");
-    if (occupied(out) && !o.force)
-      throw InputError(o.out, "", "output folder exists and is not empty; choose another --out or add --force "
-                                  "to overwrite the files sphforge writes there (nothing is deleted)");
-    return out;
-  }
-  const fs::path base = fs::path("runs") / (case_name + "-bench");
-  if (!occupied(base) || o.force) return base;
-  for (int k = 2;; ++k) {
-    const fs::path candidate = base.string() + "-" + std::to_string(k);
-    if (!occupied(candidate)) return candidate;
-  }
+  return cli::choose_output_folder(o.out, o.force, fs::path("runs") / (case_name + "-bench"));
 }
 
 struct ChildResult {

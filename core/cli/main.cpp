@@ -13,6 +13,7 @@
 
 #include "bench_command.hpp"
 #include "engine/simulation.hpp"
+#include "output_folder.hpp"
 #include "sphforge/errors.hpp"
 #include "sphforge/version.hpp"
 
@@ -95,30 +96,8 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-/// Chooses the output folder. An explicit --out that exists and is not empty is refused without
-/// --force (and even then nothing is deleted: files are only overwritten). The default folder
-/// runs/<case> gets a numeric suffix instead of touching an earlier run.
 fs::path output_folder(const Options& o, const std::string& case_name) {
-  auto occupied = [](const fs::path& p) {
-    std::error_code ec;
-    return fs::exists(p, ec) && !(fs::is_directory(p, ec) && fs::is_empty(p, ec));
-  };
-  if (!o.out.empty()) {
-    const fs::path out(o.out);
-    std::error_code ec;
-    if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-      throw InputError(o.out, "", "--out names a file, not a folder");
-    if (occupied(out) && !o.force)
-      throw InputError(o.out, "", "output folder exists and is not empty; choose another --out or add --force "
-                                  "to overwrite the files sphforge writes there (nothing is deleted)");
-    return out;
-  }
-  fs::path base = fs::path("runs") / case_name;
-  if (!occupied(base) || o.force) return base;
-  for (int k = 2;; ++k) {
-    fs::path candidate = base.string() + "-" + std::to_string(k);
-    if (!occupied(candidate)) return candidate;
-  }
+  return cli::choose_output_folder(o.out, o.force, fs::path("runs") / case_name);
 }
 
 int list_plugins(bool as_json) {
