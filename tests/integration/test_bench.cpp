@@ -4,6 +4,8 @@
 // exit codes and messages of invalid input, of an occupied --out and of runs that all blow up.
 #include <gtest/gtest.h>
 
+#include "command_line.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -27,6 +29,7 @@
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using namespace sphforge_test;
 
 namespace {
 
@@ -37,55 +40,6 @@ const std::string kQuickCase = std::string(SPHFORGE_SOURCE_DIR) + "/cases/ram_ex
 const std::vector<std::string> kSmall = {"--set", "process.billet_height=6 mm", "--set", "run.max_steps=20",
                                          "--set", "material.density=1e7 kg/m^3"};
 const std::string kTwoSpacings = "1.5 mm, 1e-3";
-
-std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out += "'\\''";
-    else out += c;
-  }
-  return out + "'";
-}
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  std::string line;
-  while (std::getline(ss, line)) out.push_back(line);
-  return out;
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string item;
-  std::stringstream ss(s);
-  while (std::getline(ss, item, sep)) out.push_back(item);
-  if (!s.empty() && s.back() == sep) out.emplace_back();
-  return out;
-}
-
-bool contains(const std::string& haystack, const std::string& needle) { return haystack.find(needle) != std::string::npos; }
-
-std::vector<std::string> concat(std::vector<std::string> a, const std::vector<std::string>& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string describe(const Result& r) {
-  return "exit " + std::to_string(r.code) + "\n--- stdout ---\n" + r.out + "\n--- stderr ---\n" + r.err;
-}
 
 /// bench.csv as strings (an empty cell is an empty string) with the header.
 struct Csv {

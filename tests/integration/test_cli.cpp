@@ -3,6 +3,8 @@
 // that the executable does not link any plugin.
 #include <gtest/gtest.h>
 
+#include "command_line.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -36,6 +38,7 @@
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using namespace sphforge_test;
 
 namespace {
 
@@ -48,53 +51,6 @@ const std::string kQuickCase = std::string(SPHFORGE_SOURCE_DIR) + "/cases/ram_ex
 const std::vector<std::string> kTinyCase = {"--set", "process.billet_height=4 mm", "--set",
                                             "process.particle_spacing=1 mm", "--set",
                                             "material.density=1e7 kg/m^3"};
-
-std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out += "'\\''";
-    else out += c;
-  }
-  return out + "'";
-}
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  std::string line;
-  while (std::getline(ss, line)) out.push_back(line);
-  return out;
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string item;
-  std::stringstream ss(s);
-  while (std::getline(ss, item, sep)) out.push_back(item);
-  if (!s.empty() && s.back() == sep) out.emplace_back();
-  return out;
-}
-
-bool contains(const std::string& haystack, const std::string& needle) {
-  return haystack.find(needle) != std::string::npos;
-}
-
-std::vector<std::string> concat(std::vector<std::string> a, const std::vector<std::string>& b) {
-  a.insert(a.end(), b.begin(), b.end());
-  return a;
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
 
 /// Runs a shell command line in `cwd`, capturing stdout and stderr separately (into files in
 /// `capture_dir`, never in `cwd`) and the exit status. SPHFORGE_PLUGIN_PATH is removed from the
@@ -123,10 +79,6 @@ Result sphforge(const std::vector<std::string>& args, const fs::path& cwd, const
   std::string cmd = "timeout -k 10 300 " + shell_quote(kExe);
   for (const auto& a : args) cmd += " " + shell_quote(a);
   return run_shell(cmd, cwd, capture_dir);
-}
-
-std::string describe(const Result& r) {
-  return "exit " + std::to_string(r.code) + "\n--- stdout ---\n" + r.out + "\n--- stderr ---\n" + r.err;
 }
 
 /// A fresh folder per test: `work` is the current directory of the commands, `capture` holds

@@ -23,29 +23,17 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include "command_line.hpp"
+
 namespace sphforge_verification {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using sphforge_test::shell_quote;
+using sphforge_test::slurp;
 
 inline const std::string kExe = SPHFORGE_EXECUTABLE;
 inline const fs::path kCases = fs::path(SPHFORGE_SOURCE_DIR) / "cases" / "verification";
-
-inline std::string shell_quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) {
-    if (c == '\'') out += "'\\''";
-    else out += c;
-  }
-  return out + "'";
-}
-
-inline std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 struct RunResult {
   int code = -1;
