@@ -149,19 +149,18 @@ SpinResult spin(const std::string& tag, const std::vector<std::string>& sets) {
 
 // Free spinning disc, one revolution. The corrected momentum equation (theory eq. 7) exerts no net
 // torque wherever the kernel correction holds (sum_j V_j x_ij (x) C grad W = -I with sigma
-// symmetric), the viscosity is central, and the leapfrog update conserves angular momentum for
-// torque-free forces: without artificial stress the angular momentum is conserved to round-off,
-// tolerance 1e-12 (measured 8e-16). The artificial stress (eq. 9) is non-central by design (a
-// tensor on the pair direction); with it (the default, epsilon = 0.3) the 1e-6 is NOT met:
-// measured 5.9e-6 at 5 particles per radius (this case) and 1.6e-6 at 10. The 1e-5 asserted here is
-// a regression bound on that known, stated deviation, not a claim of the 1e-6.
+// symmetric), the viscosity and the artificial stress (eq. 9, projected on the pair direction) are
+// central, and the leapfrog update conserves angular momentum for torque-free forces: angular and
+// linear momentum are conserved to round-off with and without artificial stress. Tolerance 1e-12
+// (measured 1.5e-15 without, 1.4e-15 with): far below the 1e-6, and a non-central
+// pair term anywhere (as the tensor form of eq. 9 was: 5.9e-6) fails it.
 TEST(RigidRotation, FreeSpinningDiscMomentum) {
   const SpinResult plain = spin("spinning_disc_no_as", {"numerics.artificial_stress.epsilon=0"});
   EXPECT_LT(plain.dp, 1e-12) << plain.line;
   EXPECT_LT(plain.dh, 1e-12) << plain.line;
   const SpinResult with_as = spin("spinning_disc", {});
   EXPECT_LT(with_as.dp, 1e-12) << with_as.line;
-  EXPECT_LT(with_as.dh, 1e-5) << with_as.line;  // reported: 5.9e-6 at 5 particles per radius
+  EXPECT_LT(with_as.dh, 1e-12) << with_as.line;
 }
 
 }  // namespace

@@ -222,11 +222,13 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
     a0 += vg * (a[0] * x0 + a[1] * x1 + a[2] * x2);
     a1 += vg * (a[3] * x0 + a[4] * x1 + a[5] * x2);
     a2 += vg * (a[6] * x0 + a[7] * x1 + a[8] * x2);
-    // Stabilising terms, symmetric tensors times m_j grad_i W_ij: artificial stress and viscosity.
-    double t[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    // Stabilising terms, both central (along x_ij, so they exert no torque on the pair):
+    // s_ij m_j grad_i W_ij with s_ij = artificial stress minus viscosity.
+    double s = 0.0;
     if constexpr (kStress) {
-      // f_ij^n (R_i + R_j), f_ij = W(r_ij)/W(dx)  (eq. 9); R is zero for particles under no
-      // principal tension, and then this adds an exact 0.
+      // Artificial stress projected on the pair direction (eq. 9):
+      // f_ij^n e_ij . (R_i + R_j) . e_ij, f_ij = W(r_ij)/W(dx), e_ij = x_ij / r_ij. R is zero for
+      // particles under no principal tension, and then this adds an exact 0.
       const double fw = w * g.inv_w_dx;
       double f;
       if constexpr (Exponent == 4) {
@@ -235,19 +237,20 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
       } else {
         f = std::pow(fw, g.exponent);
       }
-      for (int c = 0; c < 6; ++c) t[c] = f * (Ri[c] + R[6 * j + c]);
+      const double* Rj = R + 6 * j;
+      const double q = (Ri[0] + Rj[0]) * x0 * x0 + (Ri[1] + Rj[1]) * x1 * x1 + (Ri[2] + Rj[2]) * x2 * x2 +
+                       2.0 * ((Ri[3] + Rj[3]) * x0 * x1 + (Ri[4] + Rj[4]) * x1 * x2 + (Ri[5] + Rj[5]) * x0 * x2);
+      // r2 > 0 for distinct particles; the floor only keeps coincident ones (f = 1, gw = 0) finite.
+      s = f * q / std::max(r2, 1e-300);
     }
     // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
     const double vij_xij = (vi0 - v[3 * j]) * x0 + (vi1 - v[3 * j + 1]) * x1 + (vi2 - v[3 * j + 2]) * x2;
     const double mu = h * std::min(vij_xij, 0.0) / (r2 + eta2h2);
     const double Pi = (-alpha_c * mu + beta * mu * mu) / (0.5 * (rhoi + rho[j]));
-    t[0] -= Pi;
-    t[1] -= Pi;
-    t[2] -= Pi;
-    const double mg = m[j] * gw;
-    a0 += mg * (t[0] * x0 + t[3] * x1 + t[5] * x2);
-    a1 += mg * (t[3] * x0 + t[1] * x1 + t[4] * x2);
-    a2 += mg * (t[5] * x0 + t[4] * x1 + t[2] * x2);
+    const double mgs = m[j] * gw * (s - Pi);
+    a0 += mgs * x0;
+    a1 += mgs * x1;
+    a2 += mgs * x2;
   }
   g.acc[3 * i] = a0;
   g.acc[3 * i + 1] = a1;
