@@ -451,6 +451,50 @@ TEST_F(CliInput, ControllerValueWithWrongUnit) {
                   {"m/s", "1 kN"});
 }
 
+/// The quick case's ram driven by a PID on the ram force instead of the prescribed velocity.
+json ram_force_pid() {
+  return {{"plugin", "pid"}, {"name", "ram_pid"}, {"measured", "ram_force"}, {"command", "ram_velocity"},
+          {"target", "200 N"}, {"kp", "0.01 mm/s/N"}, {"ki", "0.05 mm/s/N/s"}, {"kd", "0 mm/N"}};
+}
+
+TEST_F(CliInput, PidWithUnknownMeasuredSignalListsTheSignals) {
+  expect_rejected(
+      [](json& c) {
+        c["controllers"][0] = ram_force_pid();
+        c["controllers"][0]["measured"] = "die_force_z";
+      },
+      "/controllers/0/measured", {"'die_force_z'", "ram_force", "ram_displacement", "extrusion_pressure"});
+}
+
+TEST_F(CliInput, PidGainForAnotherQuantityIsRefusedByItsUnit) {
+  // A gain meant for a rotation speed (rpm per kN) cannot drive the ram velocity.
+  expect_rejected(
+      [](json& c) {
+        c["controllers"][0] = ram_force_pid();
+        c["controllers"][0]["kp"] = "0.015 rpm/kN";
+      },
+      "/controllers/0/kp", {"0.015 rpm/kN", "(m/s)/(N)"});
+}
+
+TEST_F(CliInput, CheckRejectsABadControllerBeforeAnyRun) {
+  const fs::path file = root() / "case.json";
+  write_case(file, [](json& c) {
+    c["controllers"][0] = ram_force_pid();
+    c["controllers"][0]["command"] = "die_angular_velocity";
+  });
+  expect_input_error(run({"check", file.string()}), file.string(), "/controllers/0/command",
+                     {"'die_angular_velocity'", "ram_velocity"});
+}
+
+TEST_F(CliInput, ScheduleOfAnUnknownCommand) {
+  expect_rejected(
+      [](json& c) {
+        c["controllers"] = json::array({json{{"plugin", "schedule"}, {"command", "pid_target"},
+                                             {"points", json::array({json::array({"0 s", "1 mm/s"})})}}});
+      },
+      "/controllers/0/command", {"'pid_target'", "ram_velocity"});
+}
+
 TEST_F(CliInput, MalformedJson) {
   const fs::path file = root() / "truncated.json";
   const std::string text = slurp(kQuickCase);

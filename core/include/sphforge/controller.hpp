@@ -17,6 +17,9 @@ struct HistoryColumn {
 class Controller {
  public:
   virtual ~Controller() = default;
+  /// Adds the commands this controller offers to other controllers (e.g. a PID's target, which a
+  /// schedule may drive). Called for every controller before any bind().
+  virtual void declare(SignalBus& /*bus*/) {}
   /// Looks up the signals named in its parameters; throws InputError for unknown names.
   virtual void bind(SignalBus& bus) = 0;
   /// Called every step with the current time; the controller decides when it samples.

@@ -450,8 +450,11 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     const std::string pointer = "/controllers/" + std::to_string(k);
     auto [desc, values] = load_plugin(loader, PluginKind::Controller, root, controller_list[k], pointer);
     controllers_.push_back(desc->make_controller(values));
-    controllers_.back()->bind(signals_);
   }
+  // Two passes, so that a controller may drive a command another one offers (a schedule driving a
+  // PID's target) wherever either stands in the list; they are updated in list order.
+  for (auto& c : controllers_) c->declare(signals_);
+  for (auto& c : controllers_) c->bind(signals_);
 
   // --- Pipeline: the passes this scene runs, and the fields they declare -------------------------
   const FieldInfo position{field::position, 3, "m"}, velocity{field::velocity, 3, "m/s"},
