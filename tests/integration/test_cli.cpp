@@ -348,6 +348,67 @@ TEST_F(Cli, QuickCaseRunWritesTheOutputContract) {
               1e-9 * std::abs(csv.rows.back()[pressure]));
 }
 
+TEST_F(Cli, PhasesSwitchOnASignalAndOnTimeAndEndTheRun) {
+  // The quick case's ram: pushes at 1 mm/s until it has moved 0.05 mm, holds for 0.02 s, then
+  // accelerates as a schedule written in phase time (0 -> 2 mm/s over 0.02 s) for 0.03 s, which
+  // ends the run before run.end_time (docs/controllers.md, theory eq. 65).
+  const fs::path file = root() / "phases.json";
+  write_case(file, [](json& c) {
+    c.erase("controllers");
+    auto prescribed = [](const char* v) { return json{{"plugin", "prescribed"}, {"command", "ram_velocity"}, {"value", v}}; };
+    c["phases"] = json::array(
+        {json{{"name", "push"}, {"controllers", json::array({prescribed("1 mm/s")})},
+              {"end", {{"signal", "ram_displacement"}, {"above", "0.05 mm"}}}},
+         json{{"name", "hold"}, {"controllers", json::array({prescribed("0 mm/s")})}, {"end", {{"duration", "0.02 s"}}}},
+         json{{"name", "ramp"},
+              {"controllers", json::array({json{{"plugin", "schedule"}, {"command", "ram_velocity"},
+                                                {"points", json::array({json::array({"0 s", "0 mm/s"}),
+                                                                        json::array({"0.02 s", "2 mm/s"})})}}})},
+              {"end", {{"duration", "0.03 s"}}}}});
+    c["run"]["end_time"] = "1 s";
+    c["run"]["output_interval"] = "1 s";
+  });
+  const fs::path out = root() / "out";
+  const Result r = run({"run", file.string(), "--out", out.string(), "--quiet"});
+  ASSERT_EQ(r.code, 0) << describe(r);
+  const json summary = read_json(out / "summary.json");
+  EXPECT_EQ(summary.value("status", ""), "phases_ended");
+  ASSERT_TRUE(summary.contains("phases")) << summary.dump(2);
+  const json& ph = summary["phases"];
+  ASSERT_EQ(ph.size(), 3u);
+  const double t1 = ph[0]["end_s"].get<double>(), t2 = ph[1]["end_s"].get<double>(), t3 = ph[2]["end_s"].get<double>();
+  EXPECT_EQ(ph[1]["start_s"].get<double>(), t1);
+  EXPECT_EQ(ph[2]["start_s"].get<double>(), t2);
+
+  const Csv csv = read_csv(out / "history.csv");
+  const int time = csv.column("time_s"), dt = csv.column("dt_s"), phase = csv.column("phase_1"),
+            disp = csv.column("ram_displacement_m"), vel = csv.column("ram_velocity_m_s");
+  ASSERT_TRUE(time >= 0 && dt >= 0 && phase >= 0 && disp >= 0 && vel >= 0) << "missing columns";
+  const double step = csv.rows.back()[dt];
+  // The push ends at the first step whose displacement exceeds 0.05 mm: t1 = 0.05 s within a step.
+  EXPECT_NEAR(t1, 0.05, 1.5 * step);
+  EXPECT_NEAR(t2 - t1, 0.02, 1.5 * step);
+  EXPECT_NEAR(t3 - t2, 0.03, 1.5 * step);
+  EXPECT_NEAR(summary["simulated_time_s"].get<double>(), t3, 1.5 * step);
+  for (const auto& row : csv.rows) {
+    const double t = row[time];
+    SCOPED_TRACE("t = " + std::to_string(t));
+    if (t == 0.0) continue;  // the first row is written before the controllers' first update
+    if (t < t1 - 1e-12) {
+      EXPECT_EQ(row[phase], 1.0);
+      EXPECT_EQ(row[vel], 1e-3);
+    } else if (t > t1 + 1e-12 && t < t2 - 1e-12) {
+      EXPECT_EQ(row[phase], 2.0);
+      EXPECT_EQ(row[vel], 0.0);
+      EXPECT_NEAR(row[disp], 5e-5, 1e-3 * step);  // held: moved by at most one step past 0.05 mm
+    } else if (t > t2 + 1e-12 && t < t3 - 1e-12) {
+      EXPECT_EQ(row[phase], 3.0);
+      // Phase time t - t2, the schedule's ramp of 0.1 m/s^2, held over the step since the update.
+      EXPECT_NEAR(row[vel], 0.1 * std::min(t - t2, 0.02), 0.1 * 1.5 * step);
+    }
+  }
+}
+
 TEST_F(Cli, FinalHistoryRowAndFrameAreNotDuplicated) {
   // With history and frames due on almost every step, the last step has just written both: the
   // end of the run must not write them a second time at the same time.
@@ -493,6 +554,24 @@ TEST_F(CliInput, ScheduleOfAnUnknownCommand) {
                                              {"points", json::array({json::array({"0 s", "1 mm/s"})})}}});
       },
       "/controllers/0/command", {"'pid_target'", "ram_velocity"});
+}
+
+TEST_F(CliInput, PhaseWithoutEndThatIsNotTheLast) {
+  expect_rejected(
+      [](json& c) {
+        const json ctl = c["controllers"];
+        c.erase("controllers");
+        c["phases"] = json::array({json{{"name", "a"}, {"controllers", ctl}}, json{{"name", "b"}, {"controllers", ctl}}});
+      },
+      "/phases/0/end", {"only the last phase"});
+}
+
+TEST_F(CliInput, PhaseEndOnAnUnknownSignal) {
+  expect_rejected(
+      [](json& c) {
+        c["phases"] = json::array({json{{"name", "a"}, {"end", {{"signal", "force"}, {"above", "1 N"}}}}});
+      },
+      "/phases/0/end/signal", {"'force'", "ram_force"});
 }
 
 TEST_F(CliInput, MalformedJson) {

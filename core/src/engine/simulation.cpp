@@ -35,6 +35,7 @@ const ParamSpecs& top_level_specs() {
       ParamSpec::object("thermal", "heat conduction and convection; absent: isothermal (no thermal fields)"),
       ParamSpec::object("contact", "penalty contact settings and the friction law plugin", true),
       ParamSpec::array("controllers", "controller plugins driving the process's commands"),
+      ParamSpec::array("phases", "process phases, each with its controllers and end condition (docs/controllers.md)"),
       ParamSpec::object("numerics", "SPH discretisation settings"),
       ParamSpec::object("run", "duration and output intervals", true),
   };
@@ -443,18 +444,15 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
 
   // Signals and controllers.
   process_->bind_signals(signals_);
-  // The validated section: [] when the case has no controllers (reading a missing key of the
-  // const document instead would be undefined behaviour).
-  const json& controller_list = root.raw("controllers");
-  for (std::size_t k = 0; k < controller_list.size(); ++k) {
-    const std::string pointer = "/controllers/" + std::to_string(k);
-    auto [desc, values] = load_plugin(loader, PluginKind::Controller, root, controller_list[k], pointer);
-    controllers_.push_back(desc->make_controller(values));
-  }
-  // Two passes, so that a controller may drive a command another one offers (a schedule driving a
-  // PID's target) wherever either stands in the list; they are updated in list order.
-  for (auto& c : controllers_) c->declare(signals_);
-  for (auto& c : controllers_) c->bind(signals_);
+  // Run-long controllers and process phases (engine/controller_phases.hpp), from the validated
+  // sections ([] when absent).
+  controllers_.load(
+      root,
+      [&](const json& section, const std::string& pointer) {
+        auto [desc, values] = load_plugin(loader, PluginKind::Controller, root, section, pointer);
+        return desc->make_controller(values);
+      },
+      signals_);
 
   // --- Pipeline: the passes this scene runs, and the fields they declare -------------------------
   const FieldInfo position{field::position, 3, "m"}, velocity{field::velocity, 3, "m/s"},
@@ -580,8 +578,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   }
   if (need_yield_) yield_scratch_.resize(count_);
   process_columns_ = process_->history_columns();
-  for (const auto& c : controllers_)
-    for (const auto& col : c->history_columns()) controller_columns_.push_back(col);
+  controller_columns_ = controllers_.history_columns();
 }
 
 Simulation::~Simulation() = default;
@@ -934,7 +931,7 @@ void Simulation::step() {
   if (step_ == 0) dt_initial_ = dt_;
 
   ProcessContext ctx = context();
-  for (auto& c : controllers_) c->update(time_, dt_);
+  controllers_.update(time_, dt_);
   process_->before_step(ctx);
   if (step_ == 0) initial_kinetic_energy_ = kinetic_energy();  // after the process set initial velocities
 
@@ -1112,6 +1109,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   try {
     while (time_ < settings_.end_time_s * (1.0 - 1e-12)) {
       if (settings_.max_steps > 0 && step_ >= settings_.max_steps) { status = "max_steps"; break; }
+      if (controllers_.finished()) { status = "phases_ended"; break; }
       ProcessContext ctx = context();
       if (process_->finished(ctx)) { status = "process_finished"; break; }
       step();
@@ -1170,6 +1168,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
                            {"mirror_planes", settings_.symmetry.mirror_planes.size()}};
   }
   summary["kinetic_to_work_ratio_max"] = max_kinetic_to_work;
+  if (const json phases = controllers_.summary(); !phases.empty()) summary["phases"] = phases;
   summary["metrics"] = process_->metrics();
   json versions;
   versions["core"] = kCoreVersion;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/contact.hpp"
+#include "engine/controller_phases.hpp"
 #include "engine/neighbours.hpp"
 #include "engine/sph_operators.hpp"
 #include "engine/symmetry.hpp"
@@ -111,7 +112,7 @@ class Simulation {
   std::vector<std::string> material_keys_;           ///< "" for [0], else the key in "materials"
   std::unique_ptr<Process> process_;
   std::vector<std::unique_ptr<ContactLaw>> contact_laws_;
-  std::vector<std::unique_ptr<Controller>> controllers_;
+  ControllerPhases controllers_;
   SignalBus signals_;
 
   FieldRegistry fields_;
