@@ -86,6 +86,7 @@ TEST(PluginLoader, TestPluginsWereBuilt) {
   EXPECT_TRUE(fs::exists(kTestDir / "sphforge_test_good.so")) << kTestDir;
   EXPECT_TRUE(fs::exists(kTestDir / "sphforge_test_abi_mismatch.so")) << kTestDir;
   EXPECT_TRUE(fs::exists(kTestDir / "sphforge_test_no_symbol.so")) << kTestDir;
+  EXPECT_TRUE(fs::exists(kTestDir / "sphforge_test_throwing.so")) << kTestDir;
 }
 
 TEST(PluginLoader, LoadsGoodPluginByName) {
@@ -242,12 +243,13 @@ TEST(PluginLoader, DiscoverFindsGoodAndReportsBad) {
   PluginLoader loader({kTestDir});
   std::vector<std::string> problems;
   const auto found = loader.discover(&problems);
-  // The two loadable test plugins (sorted by file name), and the two bad ones reported.
-  ASSERT_EQ(found.size(), 2u);
+  // The three loadable test plugins (sorted by file name), and the two bad ones reported.
+  ASSERT_EQ(found.size(), 3u);
   EXPECT_EQ(found[0]->descriptor->name, "test_free_block");
   EXPECT_EQ(found[0]->descriptor->kind, PluginKind::Process);
   EXPECT_EQ(found[1]->descriptor->name, "test_good");
   EXPECT_EQ(found[1]->descriptor->kind, PluginKind::Contact);
+  EXPECT_EQ(found[2]->descriptor->name, "test_throwing");
   ASSERT_EQ(problems.size(), 2u);
   const bool abi_reported = std::any_of(problems.begin(), problems.end(), [](const std::string& p) {
     return contains(p, "sphforge_test_abi_mismatch.so") && contains(p, "ABI 999999");
@@ -260,9 +262,8 @@ TEST(PluginLoader, DiscoverFindsGoodAndReportsBad) {
 
   // Without a problems list, the bad files are skipped silently; discovering twice is stable.
   const auto again = loader.discover();
-  ASSERT_EQ(again.size(), 2u);
-  EXPECT_EQ(again[0], found[0]);
-  EXPECT_EQ(again[1], found[1]);
+  ASSERT_EQ(again.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(again[k], found[k]);
 }
 
 TEST(PluginLoader, DiscoverIgnoresFilesThatAreNotPluginCandidates) {
@@ -329,4 +330,22 @@ TEST(PluginLoader, EnvironmentWithoutTestFolderDoesNotFindTestPlugins) {
   ASSERT_TRUE(e);
   EXPECT_TRUE(contains(e->message(), "unknown contact plugin 'test_good'")) << e->what();
   EXPECT_TRUE(contains(e->message(), "coulomb")) << e->what();  // the real one is listed as available
+}
+
+TEST(PluginLoader, InputErrorThrownByAPluginOutlivesThePlugin) {
+  // A plugin may throw InputError itself. The error reaches main() after the loader holding the
+  // library is gone (stack unwinding destroys it), so nothing of the error may live in the plugin:
+  // before errors.hpp anchored the error types in the core, reading it here crashed.
+  std::string message, pointer;
+  try {
+    PluginLoader loader({kTestDir});
+    const LoadedPlugin& p = loader.load(PluginKind::Contact, "test_throwing");
+    p.descriptor->make_contact(ParamValues(json{{"gain", 1.0}}, "f.json", "/contact/law"));
+    ADD_FAILURE() << "the plugin did not throw";
+  } catch (const InputError& e) {
+    message = e.what();
+    pointer = e.pointer();
+  }
+  EXPECT_EQ(message, "f.json at /contact/law/gain: gain refused by the plugin");
+  EXPECT_EQ(pointer, "/contact/law/gain");
 }

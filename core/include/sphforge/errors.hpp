@@ -8,12 +8,18 @@
 #include <stdexcept>
 #include <string>
 
+// The error types live in libsphforge_core (their destructors are its key functions, core/src/errors.cpp)
+// and are exported from it: an error thrown inside a plugin then does not depend on the plugin's code,
+// which may be unloaded while the error travels to main() (it used to crash `sphforge check`).
+#define SPHFORGE_EXPORTED_TYPE __attribute__((visibility("default")))
+
 namespace sphforge {
 
 /// A problem in something the user supplied (case file, unit, plugin name, path).
 /// `file` and `pointer` (RFC 6901 JSON pointer) locate it; `what()` gives the whole message.
-class InputError : public std::runtime_error {
+class SPHFORGE_EXPORTED_TYPE InputError : public std::runtime_error {
  public:
+  ~InputError() override;
   InputError(std::string file, std::string pointer, const std::string& message)
       : std::runtime_error(compose(file, pointer, message)),
         file_(std::move(file)),
@@ -35,8 +41,9 @@ class InputError : public std::runtime_error {
 };
 
 /// A numerical instability detected during a run.
-class InstabilityError : public std::runtime_error {
+class SPHFORGE_EXPORTED_TYPE InstabilityError : public std::runtime_error {
  public:
+  ~InstabilityError() override;
   InstabilityError(std::int64_t step, double time_s, std::int64_t particle_id,
                    std::string field, const std::string& diagnosis)
       : std::runtime_error("numerical instability at step " + std::to_string(step) +
