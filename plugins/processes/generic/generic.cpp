@@ -16,7 +16,6 @@
 
 #include <Eigen/Geometry>
 
-#include "sphforge/errors.hpp"
 #include "sphforge/plugin.hpp"
 #include "sphforge/units.hpp"
 
@@ -138,17 +137,19 @@ const ParamSpecs& tool_specs() {
   return specs;
 }
 
-/// One entry of an array parameter as a number (SI) or a "value unit" string in `unit`.
-double quantity_at(const ParamValues& q, const json& e, const std::string& pointer, const std::string& unit) {
+/// One entry of an array parameter as a number (SI) or a "value unit" string in `unit`; errors
+/// are reported at the parameter `name`, naming the entry (`where`).
+double quantity_at(const ParamValues& q, const std::string& name, const json& e, const std::string& where,
+                   const std::string& unit) {
   if (e.is_number()) return e.get<double>();
   if (e.is_string()) {
     try {
       return parse_quantity(e.get<std::string>(), unit);
     } catch (const std::invalid_argument& ex) {
-      throw InputError(q.file(), pointer, ex.what());
+      q.fail(name, where + ": " + ex.what());
     }
   }
-  throw InputError(q.file(), pointer, "expected a number or a \"value unit\" string in " + unit);
+  q.fail(name, where + ": expected a number or a \"value unit\" string in " + unit);
 }
 
 /// An array parameter of pairs [[a, b], ...], a in `unit_a` and b in `unit_b`.
@@ -158,10 +159,9 @@ std::vector<std::pair<double, double>> pairs(const ParamValues& q, const std::st
   if (!v.is_array() || v.empty()) q.fail(name, "expected a non-empty array of [" + unit_a + ", " + unit_b + "] pairs");
   std::vector<std::pair<double, double>> out;
   for (std::size_t k = 0; k < v.size(); ++k) {
-    const std::string at = q.pointer_of(name) + "/" + std::to_string(k);
-    if (!v[k].is_array() || v[k].size() != 2)
-      throw InputError(q.file(), at, "expected a pair [" + unit_a + ", " + unit_b + "]");
-    out.emplace_back(quantity_at(q, v[k][0], at + "/0", unit_a), quantity_at(q, v[k][1], at + "/1", unit_b));
+    const std::string at = "entry " + std::to_string(k);
+    if (!v[k].is_array() || v[k].size() != 2) q.fail(name, at + ": expected a pair [" + unit_a + ", " + unit_b + "]");
+    out.emplace_back(quantity_at(q, name, v[k][0], at + " [0]", unit_a), quantity_at(q, name, v[k][1], at + " [1]", unit_b));
   }
   return out;
 }
@@ -188,7 +188,7 @@ RigidTool make_tool(const ParamValues& q) {
       const json& c = q.raw("fillet_corners");
       for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c[k].is_number_integer() || c[k].get<long long>() < 0)
-          throw InputError(q.file(), q.pointer_of("fillet_corners") + "/" + std::to_string(k), "expected a vertex index >= 0");
+          q.fail("fillet_corners", "entry " + std::to_string(k) + ": expected a vertex index >= 0");
         corners.push_back(c[k].get<std::size_t>());
       }
     }
