@@ -51,7 +51,7 @@ RigidTool make(int kind) {
     case 2:  // the paste die: underside, land, filleted entry, face (ram_extrusion)
       return RigidTool("die", ToolProfile({{0.02, -0.002}, {0.005, -0.002}, {0.005, 0.0}, {0.02, 0.0}}).with_fillets(3e-4, {2}));
     case 3: return RigidTool::stl("box", std::string(SPHFORGE_SOURCE_DIR) + "/cases/verification/tools/box_10mm.stl", 1e-3);
-    default: return sphere_mesh(0.02, 100, 200);  // 39 800 triangles
+    default: return sphere_mesh(0.02, 100, 200);  // 39 600 triangles
   }
 }
 
