@@ -135,6 +135,22 @@ TEST(Tools, FilletArcIsExact) {
   EXPECT_NEAR(die.signed_distance(Vec(0, 0, -3 * f - 0.004), n), std::hypot(Rd, 0.004), kExact);
 }
 
+TEST(Tools, SphericalDieFromAFillet) {
+  // A hemispherical die of radius R about the origin, workpiece inside: the corner of
+  // (0, -R) -> (R, -R) -> (R, 0) rounded with radius R is exactly the quarter circle (eq. 41).
+  const double R = 0.02;
+  const RigidTool bowl("bowl", ToolProfile({{0.0, -R}, {R, -R}, {R, 0.0}}).with_fillets(R));
+  const Vec dir = Vec(0.3, -0.4, -0.5).normalized();
+  Vec n;
+  for (double rho : {0.0001, 0.01, 0.019, 0.021}) {
+    EXPECT_NEAR(bowl.signed_distance(rho * dir, n), R - rho, kExact) << rho;
+    expect_vec_near(n, -dir, 1e-12);
+  }
+  // On the axis: the bottom of the bowl is nearest.
+  EXPECT_NEAR(bowl.signed_distance(Vec(0, 0, -0.5 * R), n), 0.5 * R, kExact);
+  expect_vec_near(n, Vec(0, 0, 1), kExact);
+}
+
 TEST(Tools, ConcaveCornerSign) {
   // Face z = 0 walked out to r = 1, then a wall r = 1 walked up: the workpiece fills r < 1, z > 0.
   const RigidTool cup("cup", std::vector<Eigen::Vector2d>{{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}});
