@@ -304,8 +304,10 @@ class Generic final : public Process {
       for (std::size_t r = 0; r < p.raw("tools").size(); ++r) {
         tool_values_.push_back(p.element("tools", r, tool_specs()));
         RigidTool checked = make_tool(tool_values_.back());  // user errors now, at validation
-        for (const auto& other : tool_names_)
-          if (other == checked.name()) tool_values_.back().fail("name", "two tools named '" + other + "'");
+        // Names key the history columns and contact.tool_laws: unique among tools and planes.
+        bool taken = std::find(tool_names_.begin(), tool_names_.end(), checked.name()) != tool_names_.end();
+        for (const ParamValues& plane : plane_values_) taken = taken || plane.string("name") == checked.name();
+        if (taken) tool_values_.back().fail("name", "another tool or plane is already named '" + checked.name() + "'");
         tool_names_.push_back(checked.name());
       }
     if (given(p, "probes"))
