@@ -165,7 +165,9 @@ RigidTool::RigidTool(std::string name, std::vector<Eigen::Vector2d> profile_rz)
     : RigidTool(std::move(name), ToolProfile(std::move(profile_rz))) {}
 
 RigidTool::RigidTool(std::string name, const ToolProfile& profile)
-    : name_(std::move(name)), shape_(std::make_shared<RevolutionShape>(profile, "revolution")) {}
+    : name_(std::move(name)), shape_(std::make_shared<RevolutionShape>(profile, "revolution")) {
+  if (profile.segments().empty()) throw std::invalid_argument("tool '" + name_ + "': empty profile");
+}
 
 RigidTool::RigidTool(std::string name, std::shared_ptr<const ToolShape> shape)
     : name_(std::move(name)), shape_(std::move(shape)) {
