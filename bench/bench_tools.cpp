@@ -6,6 +6,7 @@
 // OpenMP gives it; run `OMP_NUM_THREADS=1 sphforge_bench_tools` for the cost per query per core.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -74,6 +75,8 @@ void BM_ToolQuery(benchmark::State& state) {
 }
 BENCHMARK(BM_ToolQuery)->ArgName("shape")->DenseRange(0, 4);
 
+/// range(1) = 1: the points ordered along the surface (as Z-ordered particles reach the contact
+/// pass), 0: in random order.
 void BM_ToolQueryNearSurface(benchmark::State& state) {
   RigidTool tool = make(static_cast<int>(state.range(0)));
   tool.axial_offset_m = 1e-3;
@@ -84,8 +87,11 @@ void BM_ToolQueryNearSurface(benchmark::State& state) {
   std::uniform_real_distribution<double> u(-5e-4, 5e-4);
   std::uniform_int_distribution<std::size_t> pick(0, surface.points.size() - 1);
   std::vector<double> x(3 * n), d(n), normal(3 * n);
+  std::vector<std::size_t> at(n);
+  for (auto& a : at) a = pick(rng);
+  if (state.range(1) == 1) std::sort(at.begin(), at.end());
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec p = surface.points[pick(rng)];
+    const Vec p = surface.points[at[i]];
     for (int c = 0; c < 3; ++c) x[3 * i + c] = p[c] + u(rng);
   }
   for (auto _ : state) {
@@ -96,6 +102,6 @@ void BM_ToolQueryNearSurface(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(n));
   state.SetLabel(tool.shape().kind());
 }
-BENCHMARK(BM_ToolQueryNearSurface)->ArgName("shape")->DenseRange(0, 4);
+BENCHMARK(BM_ToolQueryNearSurface)->ArgNames({"shape", "ordered"})->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}});
 
 }  // namespace

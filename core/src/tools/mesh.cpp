@@ -71,9 +71,12 @@ class MeshShape final : public ToolShape {
   const char* kind() const override { return "stl"; }
 
   void signed_distance(std::size_t count, const double* x, double* d, double* n) const override {
+    // Consecutive points of a batch are usually neighbours (the core keeps particles in Z-order):
+    // the previous point's nearest triangle gives a tight first bound, and the search prunes more.
+    std::size_t hint = 0;
     for (std::size_t i = 0; i < count; ++i) {
       Vec normal;
-      d[i] = query(Vec(x[3 * i], x[3 * i + 1], x[3 * i + 2]), normal, true);
+      d[i] = query(Vec(x[3 * i], x[3 * i + 1], x[3 * i + 2]), normal, true, &hint);
       n[3 * i] = normal.x();
       n[3 * i + 1] = normal.y();
       n[3 * i + 2] = normal.z();
@@ -93,7 +96,7 @@ class MeshShape final : public ToolShape {
 
   /// Nearest triangle through the hierarchy (use_tree) or over every triangle; the sign from the
   /// pseudo-normal of the nearest feature (eq. 44).
-  double query(const Vec& p, Vec& normal, bool use_tree) const {
+  double query(const Vec& p, Vec& normal, bool use_tree, std::size_t* hint = nullptr) const {
     double best_d2 = std::numeric_limits<double>::infinity();
     Vec best_point = point_[tri_[0][0]];
     std::size_t best_tri = 0;
@@ -109,6 +112,7 @@ class MeshShape final : public ToolShape {
         best_feature = feature;
       }
     };
+    if (hint) test(*hint);
     if (use_tree) {
       // Depth-first, nearer child first; a node farther than the best so far is skipped. A
       // median split halves the triangles per level, so 64 levels cover any mesh that fits memory.
@@ -135,6 +139,7 @@ class MeshShape final : public ToolShape {
     } else {
       for (std::size_t t = 0; t < tri_.size(); ++t) test(t);
     }
+    if (hint) *hint = best_tri;
     const Vec& pseudo = feature_normal_[7 * best_tri + static_cast<std::size_t>(best_feature)];
     const Vec diff = p - best_point;
     const double dist = std::sqrt(best_d2);
