@@ -329,7 +329,7 @@ TEST_F(Cli, QuickCaseRunWritesTheOutputContract) {
   const Csv csv = read_csv(out / "history.csv");
   ASSERT_FALSE(csv.header.empty());
   EXPECT_EQ(csv.header[0], "time_s");
-  const std::regex unit_suffix("_(s|m|N|Pa|J|Nm|m_s|1|kg|K|W)$");
+  const std::regex unit_suffix("_(s|m|N|Pa|J|Nm|m_s|1|kg|K|W|rad)$");
   for (const auto& name : csv.header) EXPECT_TRUE(std::regex_search(name, unit_suffix)) << "no unit: " << name;
   const int force = csv.column("ram_force_N"), pressure = csv.column("extrusion_pressure_Pa");
   ASSERT_GE(force, 0);

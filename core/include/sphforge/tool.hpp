@@ -1,51 +1,179 @@
-// Rigid tools: analytic surfaces of revolution about the global z axis.
+// Rigid tools: analytic surfaces (plane, cylinder, bodies of revolution with exact fillet arcs)
+// and triangle meshes read from STL, each with a prescribed or commanded motion along and about
+// the tool axis (the global z axis). Equations: docs/theory.md section 3.1, eqs. (40)-(46).
 //
-// A tool's shape is an open polyline in the (r, z) half-plane, revolved about the z axis.
-// Orientation convention: walking along the polyline, the workpiece is on the LEFT, i.e. the
-// outward normal (into the workpiece) of a segment with direction (dr, dz) is (-dz, dr)/len.
-// Examples: barrel wall r = R0 walked upwards; a ram face at z = z0 walked from r = R0 to r = 0.
+// Sign convention for every shape: the signed distance is positive on the workpiece side and
+// the normal points into the workpiece side (for a point inside the tool: from the point towards
+// the nearest surface point, i.e. the direction that pushes it out).
+//
+// Profiles of revolution live in the (r, z) half-plane r >= 0 and are revolved about z. Walking
+// along the profile, the workpiece is on the LEFT: the outward normal of a segment with
+// direction (dr, dz) is (-dz, dr)/len. Examples: barrel wall r = R0 walked upwards; a ram face
+// at z = z0 walked from r = R0 to r = 0.
 #pragma once
 
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
 namespace sphforge {
 
+/// One piece of a profile: a straight segment a -> b, or an exact circular arc a -> b about
+/// `centre` (signed `sweep`, > 0 counter-clockwise in the (r, z) plane), eq. (41).
+struct ProfileSegment {
+  Eigen::Vector2d a = Eigen::Vector2d::Zero(), b = Eigen::Vector2d::Zero();
+  bool arc = false;
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double radius = 0.0, angle0 = 0.0, sweep = 0.0;
+};
+
+/// An open profile in the (r, z) half-plane: a polyline whose chosen corners may be rounded by
+/// tangent circular arcs (fillets). Distances to it are exact (no chords), eqs. (40)-(42).
+class ToolProfile {
+ public:
+  ToolProfile() = default;
+  /// A polyline through `vertices` (r >= 0); zero-length pieces are dropped. Throws
+  /// std::invalid_argument for fewer than two distinct points or a negative radius.
+  explicit ToolProfile(std::vector<Eigen::Vector2d> vertices);
+
+  /// The same polyline with the interior vertices `corners` (indices into vertices(); empty:
+  /// every interior corner) rounded by tangent arcs of `radius` (m). Throws
+  /// std::invalid_argument when a fillet does not fit on its two segments.
+  ToolProfile with_fillets(double radius, const std::vector<std::size_t>& corners = {}) const;
+
+  const std::vector<Eigen::Vector2d>& vertices() const { return vertices_; }
+  const std::vector<ProfileSegment>& segments() const { return segments_; }
+
+  /// Signed distance from q = (r, z) to the profile and the unit normal (workpiece side) in
+  /// (r, z), eq. (42).
+  double signed_distance(const Eigen::Vector2d& q, Eigen::Vector2d& normal) const;
+
+  /// Points along the profile for drawing: every segment end, arcs subdivided so that no step
+  /// turns more than `max_turn_rad`.
+  std::vector<Eigen::Vector2d> sample(double max_turn_rad) const;
+
+ private:
+  void build();
+  std::vector<Eigen::Vector2d> vertices_;
+  std::vector<double> fillet_;                   // per vertex, 0: sharp
+  std::vector<ProfileSegment> segments_;
+  std::vector<Eigen::Vector2d> start_normal_, end_normal_;  // per segment, at a and at b
+  std::vector<Eigen::Vector2d> joint_normal_;    // pseudo-normal at each segment start (sign at corners)
+};
+
+/// A tool surface as polygons (triangles or quads), for output.
+struct SurfaceMesh {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::int64_t> offsets{0};   ///< polygon p uses connectivity[offsets[p], offsets[p+1])
+  std::vector<std::int64_t> connectivity;
+  void add_polygon(std::initializer_list<std::int64_t> ids) {
+    connectivity.insert(connectivity.end(), ids.begin(), ids.end());
+    offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
+  }
+  std::size_t polygon_count() const { return offsets.size() - 1; }
+};
+
+/// A tool's shape in its own (body) frame. Called once per batch of points, never per point
+/// in a hot loop: implementations loop over the batch themselves.
+class ToolShape {
+ public:
+  virtual ~ToolShape() = default;
+  virtual const char* kind() const = 0;
+  /// Signed distances d[i] and unit normals n[3i..3i+2] of the `count` body-frame points
+  /// x[3i..3i+2]. Must be thread-safe (const, no shared scratch).
+  virtual void signed_distance(std::size_t count, const double* x, double* d, double* n) const = 0;
+  /// Body-frame axis-aligned bounds of the part of the surface that acts.
+  virtual void bounds(Eigen::Vector3d& lo, Eigen::Vector3d& hi) const = 0;
+  /// The surface in the body frame; `segments` angular steps for surfaces of revolution.
+  virtual void surface(SurfaceMesh& mesh, int segments) const = 0;
+  /// True when a rotation about z leaves the shape unchanged (bounds need no rotation).
+  virtual bool axisymmetric() const { return false; }
+};
+
+/// Piecewise-linear function of time from (t_k, v_k) pairs, constant before the first and after
+/// the last; its integral is exact (the tool lands where the schedule says), eq. (45).
+class MotionSchedule {
+ public:
+  MotionSchedule() = default;
+  /// Times strictly increasing; throws std::invalid_argument otherwise or when empty.
+  explicit MotionSchedule(std::vector<std::pair<double, double>> points);
+  double value(double t) const;
+  /// Integral of the schedule from t0 to t1 (exact).
+  double integral(double t0, double t1) const;
+  bool empty() const { return t_.empty(); }
+
+ private:
+  double antiderivative(double t) const;    // integral from t_0 to t
+  std::vector<double> t_, v_, cumulative_;  // cumulative_[k] = integral from t_0 to t_k
+};
+
 class RigidTool {
  public:
+  /// A body of revolution from a polyline profile (no fillets).
   RigidTool(std::string name, std::vector<Eigen::Vector2d> profile_rz);
+  RigidTool(std::string name, const ToolProfile& profile);
+  RigidTool(std::string name, std::shared_ptr<const ToolShape> shape);
 
-  /// Appends a circular arc (fillet) from the current last vertex to `end`, with centre `centre`
-  /// in (r, z), approximated by chords whose sagitta stays below `max_sagitta` (m).
-  static std::vector<Eigen::Vector2d> arc(const Eigen::Vector2d& start, const Eigen::Vector2d& end,
-                                          const Eigen::Vector2d& centre, double max_sagitta);
+  /// Plane through `point` with unit normal `normal` (towards the workpiece); it acts over the
+  /// square of half-width `half_size` about `point` (culling and output), eq. (43).
+  static RigidTool plane(std::string name, const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+                         double half_size);
+  /// Cylinder r = radius for z_min <= z <= z_max; `inside`: the workpiece is inside (a barrel).
+  static RigidTool cylinder(std::string name, double radius, double z_min, double z_max, bool inside);
+  /// Closed triangle mesh from an ASCII or binary STL file, coordinates multiplied by `scale`
+  /// (to metres); the workpiece is outside (normals of the file point out of the tool), eq. (44).
+  /// Throws std::runtime_error when the file cannot be read or holds no triangle.
+  static RigidTool stl(std::string name, const std::string& path, double scale = 1.0);
 
   const std::string& name() const { return name_; }
-  const std::vector<Eigen::Vector2d>& profile() const { return profile_; }
+  const ToolShape& shape() const { return *shape_; }
 
   /// Signed distance (m) from world point x to the surface in its current pose, positive on
   /// the workpiece side, and the unit normal pointing into the workpiece side.
   double signed_distance(const Eigen::Vector3d& x, Eigen::Vector3d& normal) const;
 
-  /// Velocity of the tool's material point at world point x (translation along z + rotation about z).
+  /// Batch form: world points x[3i..], distances d[i], normals normal[3i..]. Points farther than
+  /// `cutoff` outside bounds() get d = +infinity and an untouched normal (culling). OpenMP-parallel;
+  /// call it from outside a parallel region.
+  void signed_distance(std::size_t count, const double* x, double* d, double* normal,
+                       double cutoff = std::numeric_limits<double>::infinity()) const;
+
+  /// Velocity of the tool's material point at world point x (translation along z + rotation
+  /// about z), eq. (46).
   Eigen::Vector3d surface_velocity(const Eigen::Vector3d& x) const;
 
-  /// Axis-aligned bounds (world) of the revolved surface, for culling contact candidates.
+  /// Axis-aligned bounds (world) of the surface in its current pose, for culling contact candidates.
   void bounds(Eigen::Vector3d& lo, Eigen::Vector3d& hi) const;
 
-  // Kinematics, set by the process (from commands) and integrated by the core.
+  /// The surface in world coordinates in the current pose.
+  SurfaceMesh surface(int segments) const;
+
+  // Kinematics, set by the process (from commands) or by the schedules, integrated by the core.
   double axial_offset_m = 0.0;       ///< current translation along z
   double axial_velocity_m_s = 0.0;   ///< along +z
   double angle_rad = 0.0;            ///< current rotation about z
   double angular_velocity_rad_s = 0.0;  ///< about +z (right-hand rule)
+  /// Prescribed schedules of axial velocity (m/s) and angular velocity (rad/s) against time;
+  /// when set, begin_step() overrides the velocity the process set.
+  MotionSchedule axial_schedule, angular_schedule;
 
   // Reactions accumulated by the contact pass during the last step (force ON the tool).
   Eigen::Vector3d reaction_force_N = Eigen::Vector3d::Zero();
   double reaction_torque_Nm = 0.0;   ///< about +z
   double power_W = 0.0;              ///< power the tool delivered to the workpiece in the last step
   double work_J = 0.0;               ///< accumulated work delivered to the workpiece
+
+  /// Called by the core at the start of a step [t, t + dt]: a scheduled velocity becomes the
+  /// schedule's mean over the step, so that advance() lands exactly on its integral (eq. 45).
+  void begin_step(double t, double dt);
 
   /// Advances the pose by dt with the current velocities.
   void advance(double dt) {
@@ -55,9 +183,7 @@ class RigidTool {
 
  private:
   std::string name_;
-  std::vector<Eigen::Vector2d> profile_;
-  std::vector<Eigen::Vector2d> segment_normal_;  // outward (workpiece side) unit normals
-  std::vector<Eigen::Vector2d> vertex_normal_;   // pseudo-normals at vertices (sign at corners)
+  std::shared_ptr<const ToolShape> shape_;
 };
 
 }  // namespace sphforge

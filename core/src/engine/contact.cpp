@@ -39,24 +39,9 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
     tool.reaction_force_N.setZero();
     tool.reaction_torque_Nm = 0.0;
     tool.power_W = 0.0;
-    Eigen::Vector3d lo, hi;
-    tool.bounds(lo, hi);
-    lo.array() -= contact_radius;
-    hi.array() += contact_radius;
-
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-      if ((xi.array() < lo.array()).any() || (xi.array() > hi.array()).any()) {
-        distance_[i] = std::numeric_limits<double>::infinity();
-        continue;
-      }
-      Eigen::Vector3d nrm;
-      distance_[i] = tool.signed_distance(xi, nrm);
-      normal_[3 * i] = nrm.x();
-      normal_[3 * i + 1] = nrm.y();
-      normal_[3 * i + 2] = nrm.z();
-    }
+    // One batch query per tool (docs/theory.md eqs. 40-46); particles farther than the contact
+    // radius outside the tool's bounds come back at infinite distance.
+    tool.signed_distance(n, x, distance_.data(), normal_.data(), contact_radius);
 
     // Gather the touching particles in index order (deterministic).
     particle_.clear();

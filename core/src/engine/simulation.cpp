@@ -933,6 +933,7 @@ void Simulation::step() {
   ProcessContext ctx = context();
   controllers_.update(time_, dt_);
   process_->before_step(ctx);
+  for (auto& tool : tools_) tool.begin_step(time_, dt_);  // scheduled tool motion (eq. 45)
   if (step_ == 0) initial_kinetic_energy_ = kinetic_energy();  // after the process set initial velocities
 
   if (mechanical_count_ > 0) mechanics_rates();
@@ -999,6 +1000,10 @@ std::vector<std::string> Simulation::history_header() const {
     h.push_back(t.name() + "_force_z_N");
     h.push_back(t.name() + "_torque_Nm");
   }
+  for (const auto& t : tools_) {
+    h.push_back(t.name() + "_position_m");
+    h.push_back(t.name() + "_angle_rad");
+  }
   for (const auto& c : process_columns_) h.push_back(c.name);
   for (const auto& c : controller_columns_) h.push_back(c.name);
   return h;
@@ -1034,6 +1039,10 @@ std::vector<double> Simulation::history_row() const {
     r.push_back(t.reaction_force_N.y());
     r.push_back(t.reaction_force_N.z());
     r.push_back(t.reaction_torque_Nm);
+  }
+  for (const auto& t : tools_) {
+    r.push_back(t.axial_offset_m);
+    r.push_back(t.angle_rad);
   }
   for (const auto& c : process_columns_) r.push_back(*c.value);
   for (const auto& c : controller_columns_) r.push_back(*c.value);

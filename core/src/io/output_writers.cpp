@@ -249,51 +249,33 @@ ToolSeriesWriter::ToolSeriesWriter(fs::path directory, int segments)
 }
 
 void ToolSeriesWriter::write(int frame, double time_s, const std::vector<RigidTool>& tools) {
-  const std::size_t S = static_cast<std::size_t>(segments_);
   std::vector<std::string> written;  // file names of this frame, to disambiguate clashes
   written.reserve(tools.size());
 
   for (std::size_t part = 0; part < tools.size(); ++part) {
     const RigidTool& tool = tools[part];
-    const auto& profile = tool.profile();
-    const std::size_t m = profile.size();
-
-    // Revolved points, profile-major: profile point j at angle step k is j*S + k.
+    // Every shape gives its surface in the current pose (planes as a finite square, revolved
+    // profiles as quads with fillet arcs subdivided, meshes as their triangles).
+    const SurfaceMesh mesh = tool.surface(segments_);
     vtkNew<vtkDoubleArray> xyz;
     xyz->SetNumberOfComponents(3);
-    xyz->SetNumberOfTuples(static_cast<vtkIdType>(m * S));
+    xyz->SetNumberOfTuples(static_cast<vtkIdType>(mesh.points.size()));
     double* p = xyz->GetPointer(0);
-    for (std::size_t j = 0; j < m; ++j) {
-      const double r = profile[j].x();
-      const double z = profile[j].y() + tool.axial_offset_m;
-      for (std::size_t k = 0; k < S; ++k, p += 3) {
-        const double theta = tool.angle_rad + 2.0 * std::numbers::pi * double(k) / double(S);
-        p[0] = r * std::cos(theta);
-        p[1] = r * std::sin(theta);
-        p[2] = z;
-      }
+    for (const auto& q : mesh.points) {
+      *p++ = q.x();
+      *p++ = q.y();
+      *p++ = q.z();
     }
     vtkNew<vtkPoints> points;
     points->SetData(xyz);
-
-    // Quads (j,k) (j+1,k) (j+1,k+1) (j,k+1): their right-hand normal is (-dz, dr) in the
-    // (r, z) plane, i.e. towards the workpiece, the side ParaView lights by default.
-    // Quads at r = 0 degenerate to triangles with a repeated point; ParaView draws them fine.
-    const std::size_t nquads = m >= 2 ? (m - 1) * S : 0;
-    vtkNew<vtkIdTypeArray> connectivity;
-    connectivity->SetNumberOfTuples(static_cast<vtkIdType>(4 * nquads));
-    vtkIdType* c = connectivity->GetPointer(0);
-    for (std::size_t j = 0; j + 1 < m; ++j) {
-      for (std::size_t k = 0; k < S; ++k) {
-        const std::size_t k1 = (k + 1) % S;
-        *c++ = static_cast<vtkIdType>(j * S + k);
-        *c++ = static_cast<vtkIdType>((j + 1) * S + k);
-        *c++ = static_cast<vtkIdType>((j + 1) * S + k1);
-        *c++ = static_cast<vtkIdType>(j * S + k1);
-      }
-    }
+    vtkNew<vtkIdTypeArray> offsets, connectivity;
+    offsets->SetNumberOfTuples(static_cast<vtkIdType>(mesh.offsets.size()));
+    for (std::size_t k = 0; k < mesh.offsets.size(); ++k) offsets->SetValue(static_cast<vtkIdType>(k), mesh.offsets[k]);
+    connectivity->SetNumberOfTuples(static_cast<vtkIdType>(mesh.connectivity.size()));
+    for (std::size_t k = 0; k < mesh.connectivity.size(); ++k)
+      connectivity->SetValue(static_cast<vtkIdType>(k), mesh.connectivity[k]);
     vtkNew<vtkCellArray> quads;
-    quads->SetData(4, connectivity);
+    quads->SetData(offsets, connectivity);
 
     vtkNew<vtkPolyData> poly;
     poly->SetPoints(points);

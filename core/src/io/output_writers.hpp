@@ -38,10 +38,11 @@ class ParticleSeriesWriter {
   std::vector<std::pair<double, std::string>> frames_;
 };
 
-/// tools.pvd + tools_NNNNNN_<toolname>.vtp: each rigid tool's surface of revolution in its
-/// current pose (profile revolved about z in `segments` angular steps), one part per tool.
-/// Points are numbered profile-major (point j of the profile at angle step k is j*segments + k);
-/// quads are wound so that their normal points to the workpiece side of the profile.
+/// tools.pvd + tools_NNNNNN_<toolname>.vtp: each rigid tool's surface (RigidTool::surface) in its
+/// current pose, one part per tool. Surfaces of revolution: the profile revolved about z in
+/// `segments` angular steps, points numbered profile-major (profile point j at angle step k is
+/// j*segments + k; fillet arcs subdivided), quads wound so that their normal points to the
+/// workpiece side. Planes: a square of two triangles; STL meshes: their triangles.
 /// Characters of a tool name other than [A-Za-z0-9_.-] become '_' in the file name.
 class ToolSeriesWriter {
  public:

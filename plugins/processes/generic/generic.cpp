@@ -1,7 +1,9 @@
 // Process plugin `generic`: scenes built from primitives, for verification problems and quick
 // experiments. Bodies (box, cylinder, tube, disc) with an initial velocity, rotation, cantilever
 // mode shape or (deviatoric) stress; regions with prescribed velocity, rigid rotation or
-// temperature; rigid planes normal to z moving at a constant speed; probes that follow one particle and write its displacement,
+// temperature; rigid planes normal to z moving at a constant speed; rigid tools of any shape
+// (plane, cylinder, filleted profile of revolution, STL mesh) with constant, scheduled or
+// commanded motion along and about z (docs/theory.md section 3.1); probes that follow one particle and write its displacement,
 // velocity, stress or temperature to the history. Geometry conventions: docs/processes/generic.md.
 #include <algorithm>
 #include <array>
@@ -9,11 +11,13 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <filesystem>
 #include <random>
 
 #include <Eigen/Geometry>
 
 #include "sphforge/plugin.hpp"
+#include "sphforge/units.hpp"
 
 namespace {
 
@@ -105,6 +109,134 @@ const ParamSpecs& plane_specs() {
   return specs;
 }
 
+const ParamSpecs& tool_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::string("name", std::nullopt, "tool name (history columns <name>_force_z_N, <name>_position_m, ...)"),
+      ParamSpec::string("shape", std::nullopt, "surface", {"plane", "cylinder", "profile", "stl"}),
+      ParamSpec::array("point", "plane: a point of the plane [x, y, z] (m)"),
+      ParamSpec::array("normal", "plane: normal towards the workpiece [nx, ny, nz] (any length)"),
+      ParamSpec::number("half_size", "m", 1.0, "plane: half-width of the square over which it acts", 0.0),
+      ParamSpec::number("radius", "m", 0.0, "cylinder: radius", 0.0),
+      ParamSpec::number("z_min", "m", 0.0, "cylinder: lower end"),
+      ParamSpec::number("z_max", "m", 0.0, "cylinder: upper end"),
+      ParamSpec::string("side", std::string("inside"), "cylinder: where the workpiece is", {"inside", "outside"}),
+      ParamSpec::array("points", "profile: [[r, z], ...] (m), workpiece on the left when walked in order"),
+      ParamSpec::number("fillet_radius", "m", 0.0, "profile: radius of the arcs rounding the corners", 0.0),
+      ParamSpec::array("fillet_corners", "profile: indices of the rounded vertices (default: every interior one)"),
+      ParamSpec::string("file", std::string(), "stl: path of the STL file (relative paths: from the case file)"),
+      ParamSpec::number("scale", "1", 1.0, "stl: factor from the file's coordinates to metres", 0.0),
+      ParamSpec::number("position", "m", 0.0, "initial translation along +z"),
+      ParamSpec::number("angle", "rad", 0.0, "initial rotation about z"),
+      ParamSpec::number("axial_velocity", "m/s", 0.0, "constant velocity along +z (initial command value)"),
+      ParamSpec::number("angular_velocity", "rad/s", 0.0, "constant rotation speed about z (initial command value)"),
+      ParamSpec::array("axial_schedule", "piecewise-linear axial velocity [[t, v], ...] (s, m/s)"),
+      ParamSpec::array("angular_schedule", "piecewise-linear angular velocity [[t, w], ...] (s, rad/s)"),
+      ParamSpec::boolean("command", false,
+                         "true: controllers command <name>_axial_velocity (m/s) and <name>_angular_velocity (rad/s)"),
+  };
+  return specs;
+}
+
+/// One entry of an array parameter as a number (SI) or a "value unit" string in `unit`; errors
+/// are reported at the parameter `name`, naming the entry (`where`).
+double quantity_at(const ParamValues& q, const std::string& name, const json& e, const std::string& where,
+                   const std::string& unit) {
+  if (e.is_number()) return e.get<double>();
+  if (e.is_string()) {
+    try {
+      return parse_quantity(e.get<std::string>(), unit);
+    } catch (const std::invalid_argument& ex) {
+      q.fail(name, where + ": " + ex.what());
+    }
+  }
+  q.fail(name, where + ": expected a number or a \"value unit\" string in " + unit);
+}
+
+/// An array parameter of pairs [[a, b], ...], a in `unit_a` and b in `unit_b`.
+std::vector<std::pair<double, double>> pairs(const ParamValues& q, const std::string& name, const std::string& unit_a,
+                                             const std::string& unit_b) {
+  const json& v = q.raw(name);
+  if (!v.is_array() || v.empty()) q.fail(name, "expected a non-empty array of [" + unit_a + ", " + unit_b + "] pairs");
+  std::vector<std::pair<double, double>> out;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const std::string at = "entry " + std::to_string(k);
+    if (!v[k].is_array() || v[k].size() != 2) q.fail(name, at + ": expected a pair [" + unit_a + ", " + unit_b + "]");
+    out.emplace_back(quantity_at(q, name, v[k][0], at + " [0]", unit_a), quantity_at(q, name, v[k][1], at + " [1]", unit_b));
+  }
+  return out;
+}
+
+/// A tool of the `tools` array (docs/processes/generic.md), in its initial pose.
+RigidTool make_tool(const ParamValues& q) {
+  const std::string name = q.string("name"), shape = q.string("shape");
+  std::optional<RigidTool> tool;
+  if (shape == "plane") {
+    if (!given(q, "point") || !given(q, "normal")) q.fail("shape", "a plane needs point and normal");
+    const Vec normal = vector3(q, "normal", "1");
+    if (!(normal.norm() > 0.0)) q.fail("normal", "must not be zero");
+    tool = RigidTool::plane(name, vector3(q, "point", "m"), normal, q.number("half_size"));
+  } else if (shape == "cylinder") {
+    if (!(q.number("radius") > 0.0)) q.fail("radius", "a cylinder needs a positive radius");
+    if (!(q.number("z_max") > q.number("z_min"))) q.fail("z_max", "must exceed z_min");
+    tool = RigidTool::cylinder(name, q.number("radius"), q.number("z_min"), q.number("z_max"), q.string("side") == "inside");
+  } else if (shape == "profile") {
+    if (!given(q, "points")) q.fail("shape", "a profile needs points");
+    std::vector<Eigen::Vector2d> points;
+    for (const auto& [r, z] : pairs(q, "points", "m", "m")) points.emplace_back(r, z);
+    std::vector<std::size_t> corners;
+    if (given(q, "fillet_corners")) {
+      const json& c = q.raw("fillet_corners");
+      for (std::size_t k = 0; k < c.size(); ++k) {
+        if (!c[k].is_number_integer() || c[k].get<long long>() < 0)
+          q.fail("fillet_corners", "entry " + std::to_string(k) + ": expected a vertex index >= 0");
+        corners.push_back(c[k].get<std::size_t>());
+      }
+    }
+    try {
+      ToolProfile profile(points);
+      if (q.number("fillet_radius") > 0.0) profile = profile.with_fillets(q.number("fillet_radius"), corners);
+      tool = RigidTool(name, profile);
+    } catch (const std::invalid_argument& e) {
+      q.fail(q.number("fillet_radius") > 0.0 ? "fillet_radius" : "points", e.what());
+    }
+  } else {  // stl
+    std::filesystem::path file = q.string("file");
+    if (file.empty()) q.fail("file", "an stl tool needs a file");
+    if (file.is_relative()) file = std::filesystem::path(q.file()).parent_path() / file;
+    try {
+      tool = RigidTool::stl(name, file.string(), q.number("scale"));
+    } catch (const std::runtime_error& e) {
+      q.fail("file", e.what());
+    }
+  }
+  tool->axial_offset_m = q.number("position");
+  tool->angle_rad = q.number("angle");
+  tool->axial_velocity_m_s = q.number("axial_velocity");
+  tool->angular_velocity_rad_s = q.number("angular_velocity");
+  try {
+    if (given(q, "axial_schedule")) tool->axial_schedule = MotionSchedule(pairs(q, "axial_schedule", "s", "m/s"));
+  } catch (const std::invalid_argument& e) {
+    q.fail("axial_schedule", e.what());
+  }
+  try {
+    if (given(q, "angular_schedule"))
+      tool->angular_schedule = MotionSchedule(pairs(q, "angular_schedule", "s", "rad/s"));
+  } catch (const std::invalid_argument& e) {
+    q.fail("angular_schedule", e.what());
+  }
+  if (q.boolean("command") && (given(q, "axial_schedule") || given(q, "angular_schedule")))
+    q.fail("command", "a commanded tool cannot also follow a schedule");
+  return std::move(*tool);
+}
+
+/// A tool of the `tools` array once built: where it is, and its commanded velocities.
+struct ToolEntry {
+  std::size_t index = 0;
+  bool commanded = false;
+  double axial_velocity = 0.0, angular_velocity = 0.0;  // constant or commanded (m/s, rad/s)
+  double force_z = 0.0, torque = 0.0;                   // measured signals
+};
+
 const ParamSpecs& probe_specs() {
   static const ParamSpecs specs = {
       ParamSpec::string("name", std::nullopt, "probe name (history column prefix)"),
@@ -168,6 +300,16 @@ class Generic final : public Process {
       for (std::size_t r = 0; r < p.raw("regions").size(); ++r) region_values_.push_back(p.element("regions", r, region_specs()));
     if (given(p, "planes"))
       for (std::size_t r = 0; r < p.raw("planes").size(); ++r) plane_values_.push_back(p.element("planes", r, plane_specs()));
+    if (given(p, "tools"))
+      for (std::size_t r = 0; r < p.raw("tools").size(); ++r) {
+        tool_values_.push_back(p.element("tools", r, tool_specs()));
+        RigidTool checked = make_tool(tool_values_.back());  // user errors now, at validation
+        // Names key the history columns and contact.tool_laws: unique among tools and planes.
+        bool taken = std::find(tool_names_.begin(), tool_names_.end(), checked.name()) != tool_names_.end();
+        for (const ParamValues& plane : plane_values_) taken = taken || plane.string("name") == checked.name();
+        if (taken) tool_values_.back().fail("name", "another tool or plane is already named '" + checked.name() + "'");
+        tool_names_.push_back(checked.name());
+      }
     if (given(p, "probes"))
       for (std::size_t r = 0; r < p.raw("probes").size(); ++r) {
         const ParamValues q = p.element("probes", r, probe_specs());
@@ -216,6 +358,15 @@ class Generic final : public Process {
       scene.add_tool(std::move(tool));
       plane_velocity_.push_back({q.number("velocity"), q.number("angular_velocity")});
     }
+    for (const ParamValues& q : tool_values_) {
+      ToolEntry e;
+      RigidTool tool = make_tool(q);
+      e.commanded = q.boolean("command");
+      e.axial_velocity = tool.axial_velocity_m_s;
+      e.angular_velocity = tool.angular_velocity_rad_s;
+      e.index = scene.add_tool(std::move(tool));
+      tools_.push_back(e);
+    }
     for (const ParamValues& q : region_values_) {
       Region r;
       r.name = q.string("name");
@@ -243,7 +394,16 @@ class Generic final : public Process {
     }
   }
 
-  void bind_signals(SignalBus&) override {}
+  void bind_signals(SignalBus& bus) override {
+    for (std::size_t t = 0; t < tools_.size(); ++t) {
+      const std::string& name = tool_names_[t];
+      bus.add_measured(name + "_force_z", "N", &tools_[t].force_z);
+      bus.add_measured(name + "_torque", "N*m", &tools_[t].torque);
+      if (!tools_[t].commanded) continue;
+      bus.add_command(name + "_axial_velocity", "m/s", &tools_[t].axial_velocity);
+      bus.add_command(name + "_angular_velocity", "rad/s", &tools_[t].angular_velocity);
+    }
+  }
 
   void initialize(ProcessContext& ctx) override {
     FieldRegistry& f = *ctx.fields;
@@ -293,6 +453,12 @@ class Generic final : public Process {
   }
 
   void before_step(ProcessContext& ctx) override {
+    // Constant or commanded tool speeds; a schedule, when given, overrides them in the core
+    // (RigidTool::begin_step, eq. 45).
+    for (const ToolEntry& e : tools_) {
+      (*ctx.tools)[e.index].axial_velocity_m_s = e.axial_velocity;
+      (*ctx.tools)[e.index].angular_velocity_rad_s = e.angular_velocity;
+    }
     // Prescribed rotation, part 1: the velocity the gradient pass sees is the exact rigid field
     // v = v0 + w x (x^n - c) of the current positions, so L is the spin W exactly (D = 0 to
     // round-off). With the lagged field of the last step, L(x^n, v^{n-1/2}) has a symmetric part
@@ -403,6 +569,10 @@ class Generic final : public Process {
         momentum_[d] = P[d];
         angular_momentum_[d] = H[d];
       }
+    }
+    for (ToolEntry& e : tools_) {
+      e.force_z = (*ctx.tools)[e.index].reaction_force_N.z();
+      e.torque = (*ctx.tools)[e.index].reaction_torque_Nm;
     }
     for (std::size_t t = 0; t < plane_velocity_.size(); ++t) {
       (*ctx.tools)[t].axial_velocity_m_s = plane_velocity_[t].first;
@@ -559,7 +729,9 @@ class Generic final : public Process {
   double spacing_, jitter_;
   unsigned seed_ = 1;
   double period_start_ = 0.0;
-  std::vector<ParamValues> bodies_, region_values_, plane_values_;
+  std::vector<ParamValues> bodies_, region_values_, plane_values_, tool_values_;
+  std::vector<std::string> tool_names_;
+  std::vector<ToolEntry> tools_;
   std::vector<std::optional<std::array<double, 6>>> initial_stress_;  // per body
   std::vector<Region> regions_;
   std::vector<Probe> probes_;
@@ -571,7 +743,8 @@ class Generic final : public Process {
 const PluginDescriptor& descriptor() {
   static const PluginDescriptor d = make_plugin_descriptor<Generic>(
       "generic", "0.1.0",
-      "bodies from primitives (box, cylinder, tube, disc) with initial motion, prescribed regions, rigid z-planes, probes",
+      "bodies from primitives (box, cylinder, tube, disc) with initial motion, prescribed regions, rigid z-planes, "
+      "rigid tools (plane, cylinder, profile, STL), probes",
       {
           ParamSpec::number("particle_spacing", "m", std::nullopt, "lattice spacing dx of every body", 1e-9),
           ParamSpec::number("jitter", "1", 0.0, "random displacement of each particle, fraction of dx per axis", 0.0, 0.45),
@@ -579,6 +752,7 @@ const PluginDescriptor& descriptor() {
           ParamSpec::array("bodies", "the bodies: see docs/processes/generic.md", true),
           ParamSpec::array("regions", "prescribed velocity / temperature / convection regions"),
           ParamSpec::array("planes", "rigid planes normal to z (tools)"),
+          ParamSpec::array("tools", "rigid tools: plane, cylinder, filleted profile, STL mesh (docs/processes/generic.md)"),
           ParamSpec::array("probes", "particles followed and recorded in the history"),
           ParamSpec::number("period_start", "s", 0.0, "probe samples before this time are ignored by the metrics", 0.0),
       });

@@ -55,16 +55,10 @@ class RamExtrusion final : public Process {
     barrel_ = scene.add_tool(RigidTool("barrel", {{barrel_radius_, 0.0}, {barrel_radius_, ram_top_start_ + 4 * spacing_}}));
     // Die: in along its underside (so that extrudate swelling below the exit is outside the die,
     // not behind an open edge), up the land, round the entry fillet, out along the face.
-    std::vector<Eigen::Vector2d> die = {{barrel_radius_, exit_z_}, {die_radius_, exit_z_}};
-    if (fillet_ > 0.0) {
-      if (-fillet_ > exit_z_) die.emplace_back(die_radius_, -fillet_);
-      const auto arc = RigidTool::arc({die_radius_, -fillet_}, {die_radius_ + fillet_, 0.0},
-                                      {die_radius_ + fillet_, -fillet_}, 0.02 * spacing_);
-      die.insert(die.end(), arc.begin(), arc.end());
-    } else if (exit_z_ < 0.0) {
-      die.emplace_back(die_radius_, 0.0);
-    }
-    die.emplace_back(barrel_radius_, 0.0);
+    // The entry corner (r = die radius, z = 0) is rounded by an exact tangent arc of the fillet
+    // radius (docs/theory.md eq. 41), centred at (die radius + fillet, -fillet).
+    ToolProfile die({{barrel_radius_, exit_z_}, {die_radius_, exit_z_}, {die_radius_, 0.0}, {barrel_radius_, 0.0}});
+    if (fillet_ > 0.0) die = die.with_fillets(fillet_, {2});
     die_ = scene.add_tool(RigidTool("die", die));
     // Ram face, walked inwards (material below), moved to the billet top.
     RigidTool ram("ram", {{ram_radius_, 0.0}, {0.0, 0.0}});
