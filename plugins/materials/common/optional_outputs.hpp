@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sphforge/errors.hpp"
 #include "sphforge/fields.hpp"
 #include "sphforge/material.hpp"
 #include "sphforge/parameters.hpp"
@@ -34,12 +35,12 @@ class OptionalOutputs {
     static const std::vector<std::string> allowed = {output::plastic_strain_rate, field::von_mises_stress,
                                                      output::yield_stress};
     for (std::size_t k = 0; k < list.size(); ++k) {
-      const std::string where = "output_fields/" + std::to_string(k);
-      if (!list[k].is_string()) p.fail(where, "expected a field name (string)");
+      const std::string where = p.pointer_of("output_fields") + "/" + std::to_string(k);
+      if (!list[k].is_string()) throw InputError(p.file(), where, "expected a field name (string)");
       const std::string name = list[k].get<std::string>();
       if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
-        p.fail(where, "unknown output field '" + name +
-                          "' (expected plastic_strain_rate, von_mises_stress or yield_stress)");
+        throw InputError(p.file(), where,
+                         "unknown output field '" + name + "' (expected plastic_strain_rate, von_mises_stress or yield_stress)");
       if (name == output::plastic_strain_rate) rate_ = true;
       if (name == field::von_mises_stress) von_mises_ = true;
       if (name == output::yield_stress) yield_ = true;
