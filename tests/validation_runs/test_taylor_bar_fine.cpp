@@ -1,4 +1,4 @@
-// Validation (label `validation`, not run in CI: about 20 minutes on one thread): the Taylor bar
+// Validation (label `validation`, not run in CI: about 11 minutes on one thread): the Taylor bar
 // of cases/verification/taylor_bar_copper.json at dx = 0.6, 0.4 and 0.3 mm through
 // `sphforge bench`, errors against cases/verification/reference/taylor_bar_copper.json.
 // Target (issue 4): the finest run within 3 % of the final length 21.4 mm and of the footprint
