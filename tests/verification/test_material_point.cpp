@@ -388,4 +388,74 @@ TEST(JohnsonCookPoint, DiagnosticFieldsOnlyWhenListed) {
   EXPECT_EQ(make("johnson_cook", listed)->fields().size(), 4u);
 }
 
+// Thermal properties linear in Th (eq. 38), AA7075 as printed in friction_extrusion.md:
+// k = 166.1 - 50.1 Th, c = 795.8 - 350.4 Th, Th clamped to [0, 1].
+// Tolerance 1e-12 relative: one multiply-add in double precision.
+TEST(JohnsonCookPoint, ThermalPropertiesLinearInTh) {
+  const double Tr = 295.15, Tm = 750.15;
+  auto mat = make("johnson_cook", {{"density", 2810.0}, {"youngs_modulus", 71.7e9}, {"poisson_ratio", 0.33},
+                                   {"A", 546e6}, {"m", 1.57}, {"reference_temperature", Tr}, {"melting_temperature", Tm},
+                                   {"conductivity", 166.1}, {"conductivity_slope", -50.1}, {"specific_heat", 795.8},
+                                   {"specific_heat_slope", -350.4}});
+  ASSERT_TRUE(mat->conducts_heat());
+  std::vector<double> T = {200.0, Tr, 400.0, 600.0, Tm, 1000.0}, k(T.size()), c(T.size());
+  ThermalBatch b;
+  b.count = T.size();
+  b.temperature = T.data();
+  b.conductivity = k.data();
+  b.specific_heat = c.data();
+  mat->thermal_properties(b);
+  for (std::size_t i = 0; i < T.size(); ++i) {
+    const double Th = std::clamp((T[i] - Tr) / (Tm - Tr), 0.0, 1.0);
+    EXPECT_NEAR(k[i], 166.1 - 50.1 * Th, 1e-12 * 166.1) << T[i];
+    EXPECT_NEAR(c[i], 795.8 - 350.4 * Th, 1e-12 * 795.8) << T[i];
+  }
+  // A slope that makes a property non-positive at T_m is an input error.
+  EXPECT_THROW(make("johnson_cook", {{"density", 2810.0}, {"youngs_modulus", 71.7e9}, {"poisson_ratio", 0.33},
+                                     {"A", 546e6}, {"reference_temperature", Tr}, {"melting_temperature", Tm},
+                                     {"conductivity", 100.0}, {"specific_heat", 795.8}, {"specific_heat_slope", -900.0}}),
+               InputError);
+}
+
+// Plastic heat of elastoplastic (eq. 37) in steady perfectly plastic flow: every step's plastic
+// increment is the applied equivalent strain increment, so the heat source is
+// beta sigma_y epsdot / rho exactly. Tolerance 1e-10 relative: the return's yield tolerance.
+TEST(ElastoplasticPoint, PlasticHeatIsTaylorQuinneyTimesPlasticPower) {
+  Point pt("elastoplastic", {{"density", kRho}, {"youngs_modulus", kE}, {"poisson_ratio", kNu}, {"yield_stress", kY0},
+                             {"taylor_quinney", 0.85}, {"specific_heat", 460.0}, {"conductivity", 40.0}});
+  pt.temperature = 300.0;
+  set_isochoric(pt, 2.0);
+  for (int k = 0; k < 20; ++k) pt.step(1e-3, true);  // 0.002 per step, yield strain 0.0015
+  const double expected = 0.85 * kY0 * 2.0 / kRho;
+  EXPECT_NEAR(pt.heat, expected, 1e-10 * expected);
+  // Isothermal runs pass no heat source: nothing is written (no crash on the null pointer).
+  pt.step(1e-3, false);
+}
+
+// The yield stress the material hands to friction laws (Coulomb-Tresca) is eq. 36 at the
+// particle's state: after flow at T with eps_p, (A + B eps_p^n)(1 - Th^m), and R of the last
+// plastic rate when that output is allocated. Tolerance 1e-12: the same arithmetic.
+TEST(JohnsonCookPoint, YieldStressForFrictionLaws) {
+  const double A = 112e6, B = 505e6, n = 0.42, C = 0.009, m = 1.68, Tr = 298.15, Tm = 1189.15, T = 700.0;
+  Point pt("johnson_cook", {{"density", 8500.0}, {"youngs_modulus", 100e9}, {"poisson_ratio", 0.34}, {"A", A}, {"B", B},
+                            {"n", n}, {"C", C}, {"m", m}, {"reference_temperature", Tr}, {"melting_temperature", Tm},
+                            {"output_fields", json::array({"plastic_strain_rate"})}});
+  pt.temperature = T;
+  set_isochoric(pt, 50.0);
+  for (int k = 0; k < 50; ++k) pt.step(1e-4, true);
+  MaterialBatch b;
+  b.count = 1;
+  b.fields = &pt.fields;
+  b.temperature = &pt.temperature;
+  double out = 0.0;
+  pt.material->yield_stress(b, &out);
+  const double eps = pt.eps_p(), rate = pt.fields.f64("plastic_strain_rate")[0];
+  const double Th = (T - Tr) / (Tm - Tr);
+  const double expected = (A + B * std::pow(eps, n)) * (1 + C * std::log(rate)) * (1 - std::pow(Th, m));
+  EXPECT_GT(rate, 1.0);
+  EXPECT_NEAR(out, expected, 1e-12 * expected);
+  // In steady flow this is the stress the return produced.
+  EXPECT_NEAR(pt.von_mises(), expected, 1e-6 * expected);
+}
+
 }  // namespace
