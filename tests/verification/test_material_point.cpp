@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <string>
@@ -456,6 +457,40 @@ TEST(JohnsonCookPoint, YieldStressForFrictionLaws) {
   EXPECT_NEAR(out, expected, 1e-12 * expected);
   // In steady flow this is the stress the return produced.
   EXPECT_NEAR(pt.von_mises(), expected, 1e-6 * expected);
+}
+
+// The parameter sets shipped next to the plugin (plugins/materials/johnson_cook/parameter_sets/,
+// numbers from /work/shared/reference) are valid material sections: each loads, and flowing slowly
+// (rate below epsdot_0) at T_ref gives the yield stress A of its set. Brass lacks the elastic data in
+// the reference; the test adds placeholder ones (they do not enter the yield stress).
+// Tolerance 1e-10: the return's yield tolerance.
+TEST(JohnsonCookPoint, BundledParameterSetsLoad) {
+  const std::string dir = std::string(SPHFORGE_SOURCE_DIR) + "/plugins/materials/johnson_cook/parameter_sets/";
+  for (const std::string name : {"aa7075_t6", "hx220", "brass"}) {
+    std::ifstream in(dir + name + ".json");
+    ASSERT_TRUE(in) << name;
+    json m = json::parse(in)["material"];
+    ASSERT_EQ(m["plugin"], "johnson_cook") << name;
+    m.erase("plugin");
+    if (name == "brass") {
+      m["density"] = 8400.0;
+      m["youngs_modulus"] = 100e9;
+      m["poisson_ratio"] = 0.34;
+    }
+    const LoadedPlugin& lp = loader().load(PluginKind::Material, "johnson_cook");
+    const ParamValues v = validate_parameters(m, lp.descriptor->parameters, dir + name + ".json", "/material");
+    Point pt("johnson_cook", m);
+    EXPECT_EQ(pt.material->conducts_heat(), name != "brass") << name;
+    pt.temperature = v.number("reference_temperature");
+    // Isochoric flow at a tenth of epsdot_0 (R = 1), to 0.05 equivalent plastic strain at most.
+    const double rate = 0.1 * v.number("reference_strain_rate");
+    set_isochoric(pt, rate);
+    const double yield_strain = v.number("A") / (v.number("youngs_modulus") / (2 * (1 + v.number("poisson_ratio")))) / 3;
+    for (int k = 0; k < 3 && pt.eps_p() == 0.0; ++k) pt.step(2.0 * yield_strain / rate, true);
+    const double hard = v.number("A") + v.number("B") * std::pow(pt.eps_p(), v.number("n"));
+    EXPECT_GT(pt.eps_p(), 0.0) << name;
+    EXPECT_NEAR(pt.von_mises(), hard, 1e-10 * hard) << name;
+  }
 }
 
 }  // namespace
