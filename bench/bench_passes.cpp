@@ -10,6 +10,9 @@
 
 #include "engine/neighbours.hpp"
 #include "engine/sph_operators.hpp"
+#include "sphforge/fields.hpp"
+#include "sphforge/parameters.hpp"
+#include "sphforge/plugin_loader.hpp"
 
 namespace {
 
@@ -92,6 +95,100 @@ void BM_JaumannRotation(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
 }
 
+// Material passes (plugins, docs/theory.md eqs. 15-17, 33-37) on the block's particles: every
+// particle flows plastically in every call (a deviatoric strain increment of 0.002 per step, far
+// above the yield strain), so each call does the full return mapping. Compare per particle with
+// BM_JaumannRotation (the stress-rate pass) and with the whole step (sphforge_bench_step).
+struct MaterialBlock {
+  std::unique_ptr<Material> material;
+  FieldRegistry fields;
+  std::vector<double> L, S, p, rho, T, heat;
+  std::size_t n;
+  MaterialBlock(PluginLoader& loader, const std::string& plugin, const json& params, std::size_t count, bool thermal)
+      : n(count) {
+    const LoadedPlugin& lp = loader.load(PluginKind::Material, plugin);
+    material = lp.descriptor->make_material(validate_parameters(params, lp.descriptor->parameters, "bench", "/material"));
+    for (const FieldInfo& f : material->fields()) fields.declare(f, "bench");
+    fields.allocate(n);
+    L.assign(9 * n, 0.0);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.5, 1.5);
+    // Isochoric stretching along x at about 2 1/s (x 1e-3 s = 0.002 per step), varied per particle.
+    for (std::size_t i = 0; i < n; ++i) {
+      const double r = 2.0 * u(rng);
+      L[9 * i] = r;
+      L[9 * i + 4] = L[9 * i + 8] = -0.5 * r;
+      L[9 * i + 1] = 0.3 * r;
+    }
+    S.assign(6 * n, 0.0);
+    p.assign(n, 0.0);
+    rho.assign(n, material->reference_density());
+    T.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) T[i] = 300.0 + 200.0 * u(rng);
+    heat.assign(n, 0.0);
+    if (!thermal) T.clear();
+  }
+  void step() {
+    MaterialBatch b;
+    b.count = n;
+    b.dt = 1e-3;
+    b.velocity_gradient = L.data();
+    b.density = rho.data();
+    b.deviatoric_stress = S.data();
+    b.pressure = p.data();
+    b.fields = &fields;
+    if (!T.empty()) {
+      b.temperature = T.data();
+      b.heat_source = heat.data();
+    }
+    material->update_stress(b);
+  }
+};
+
+PluginLoader& plugin_loader() {
+  static PluginLoader loader({SPHFORGE_PLUGIN_BUILD_DIR});
+  return loader;
+}
+
+void run_material(benchmark::State& state, MaterialBlock& m) {
+  for (int k = 0; k < 5; ++k) m.step();  // into plastic flow
+  for (auto _ : state) m.step();
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(m.n));
+  state.counters["failed_returns"] = static_cast<double>(m.material->failed_returns());
+}
+
+std::size_t block_count(int side) { return static_cast<std::size_t>(side) * side * side; }
+
+// Copper of the Taylor bar: linear hardening (one Newton correction).
+void BM_MaterialElastoplastic(benchmark::State& state) {
+  static MaterialBlock m(plugin_loader(), "elastoplastic",
+                         {{"density", 8930}, {"youngs_modulus", 117e9}, {"poisson_ratio", 0.35},
+                          {"yield_stress", 400e6}, {"hardening_modulus", 100e6}},
+                         block_count(static_cast<int>(state.range(0))), false);
+  run_material(state, m);
+}
+
+// AA7075-T6 (friction_extrusion.md): B = 0, rate and temperature terms, thermal.
+void BM_MaterialJohnsonCookAA7075(benchmark::State& state) {
+  static MaterialBlock m(plugin_loader(), "johnson_cook",
+                         {{"density", 2810}, {"youngs_modulus", 71.7e9}, {"poisson_ratio", 0.33}, {"A", 546e6},
+                          {"C", 0.024}, {"m", 1.57}, {"reference_strain_rate", 1.0}, {"reference_temperature", 295.15},
+                          {"melting_temperature", 750.15}, {"specific_heat", 795.8}, {"conductivity", 166.1}},
+                         block_count(static_cast<int>(state.range(0))), true);
+  run_material(state, m);
+}
+
+// Brass (friction_stir_back_extrusion.md): strain hardening, rate and temperature terms, thermal.
+void BM_MaterialJohnsonCookBrass(benchmark::State& state) {
+  static MaterialBlock m(plugin_loader(), "johnson_cook",
+                         {{"density", 8500}, {"youngs_modulus", 100e9}, {"poisson_ratio", 0.34}, {"A", 112e6},
+                          {"B", 505e6}, {"n", 0.42}, {"C", 0.009}, {"m", 1.68}, {"reference_strain_rate", 1.0},
+                          {"reference_temperature", 298.15}, {"melting_temperature", 1189.15},
+                          {"specific_heat", 380}, {"conductivity", 120}},
+                         block_count(static_cast<int>(state.range(0))), true);
+  run_material(state, m);
+}
+
 // 46^3 = 97,336 particles: the size of the SPH-core throughput target (about 1e5).
 BENCHMARK(BM_NeighbourBuild)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_VelocityGradientCorrected)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -99,3 +196,6 @@ BENCHMARK(BM_MomentumWithArtificialStress)->Arg(46)->Unit(benchmark::kMillisecon
 BENCHMARK(BM_JaumannRotation)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
+BENCHMARK(BM_MaterialElastoplastic)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MaterialJohnsonCookAA7075)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MaterialJohnsonCookBrass)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();

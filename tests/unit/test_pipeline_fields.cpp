@@ -80,8 +80,12 @@ TEST(PipelineFields, IsothermalElastoplasticCaseAllocatesWhatItsPassesDeclare) {
   const auto names = fields.names();
   EXPECT_EQ(std::count(names.begin(), names.end(), std::string(field::temperature)), 0);
 
-  // The elastoplastic material declares plastic_strain (and von Mises stress).
+  // The elastoplastic material declares plastic_strain (diagnostics such as von Mises stress only when
+  // listed in its output_fields; the quick case lists none).
   ASSERT_TRUE(fields.allocated(field::plastic_strain));
+  EXPECT_FALSE(fields.declared(field::von_mises_stress));
+  EXPECT_FALSE(fields.declared("plastic_strain_rate"));
+  EXPECT_FALSE(fields.declared("yield_stress"));
   EXPECT_EQ(fields.info(field::plastic_strain).components, 1);
   const auto& ps_users = fields.declared_by(field::plastic_strain);
   EXPECT_NE(std::find(ps_users.begin(), ps_users.end(), "material:elastoplastic"), ps_users.end());

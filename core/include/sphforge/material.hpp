@@ -73,6 +73,10 @@ class Material {
   /// Current yield stress (Pa) of each particle, written into `out` (count values), used by
   /// friction laws such as Coulomb-Tresca. Default: no yield limit (infinity).
   virtual void yield_stress(const MaterialBatch& batch, double* out) const;
+
+  /// Return mappings that hit the iteration cap without meeting the yield-condition tolerance,
+  /// summed over the run (summary.json `material_failed_returns`; 0 for a law without iteration).
+  virtual long long failed_returns() const { return 0; }
 };
 
 }  // namespace sphforge

@@ -1179,6 +1179,10 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   summary["kinetic_to_work_ratio_max"] = max_kinetic_to_work;
   if (const json phases = controllers_.summary(); !phases.empty()) summary["phases"] = phases;
   summary["metrics"] = process_->metrics();
+  // Return mappings that hit their iteration cap (docs/theory.md eq. 34): 0 in a sound run.
+  long long failed_returns = 0;
+  for (const auto& material : materials_) failed_returns += material->failed_returns();
+  summary["material_failed_returns"] = failed_returns;
   json versions;
   versions["core"] = kCoreVersion;
   versions["plugin_abi"] = kPluginAbiVersion;

@@ -1,9 +1,12 @@
-// Material plugin `elastoplastic`: isotropic linear elasticity with von Mises (J2) plasticity,
-// perfectly plastic or with linear isotropic hardening, and a linear equation of state.
-// docs/theory.md, eqs. 15-17.
+// Material plugin `elastoplastic`: isotropic linear elasticity (E, nu or K, G) with von Mises (J2)
+// plasticity, perfectly plastic or with linear isotropic hardening, and a linear equation of state.
+// docs/theory.md section 5, eqs. 15-17 and 33-35; the return mapping is the shared one of
+// plugins/materials/common/j2_plasticity.hpp.
 #include <algorithm>
 #include <cmath>
 
+#include "../common/j2_plasticity.hpp"
+#include "../common/optional_outputs.hpp"
 #include "sphforge/plugin.hpp"
 
 namespace {
@@ -14,19 +17,30 @@ class Elastoplastic final : public Material {
  public:
   explicit Elastoplastic(const ParamValues& p)
       : rho0_(p.number("density")),
-        E_(p.number("youngs_modulus")),
-        nu_(p.number("poisson_ratio")),
         yield0_(p.number("yield_stress")),
         hardening_(p.number("hardening_modulus")),
+        taylor_quinney_(p.number("taylor_quinney")),
         conductivity_(p.number("conductivity")),
-        specific_heat_(p.number("specific_heat")) {
-    G_ = E_ / (2.0 * (1.0 + nu_));
-    K_ = E_ / (3.0 * (1.0 - 2.0 * nu_));
+        specific_heat_(p.number("specific_heat")),
+        outputs_(p) {
+    const double E = p.number("youngs_modulus"), nu = p.number("poisson_ratio");
+    const double K = p.number("bulk_modulus"), G = p.number("shear_modulus");
+    // Exactly one pair of elastic constants (0 / -1 mark a constant that was not given).
+    if (E > 0.0) {
+      if (K > 0.0 || G > 0.0) p.fail("bulk_modulus", "give either youngs_modulus and poisson_ratio, or bulk_modulus and shear_modulus, not both");
+      if (nu == -1.0) p.fail("poisson_ratio", "is required with youngs_modulus");
+      G_ = E / (2.0 * (1.0 + nu));
+      K_ = E / (3.0 * (1.0 - 2.0 * nu));
+    } else {
+      if (!(K > 0.0)) p.fail("bulk_modulus", "give youngs_modulus and poisson_ratio, or bulk_modulus and shear_modulus");
+      if (!(G > 0.0)) p.fail("shear_modulus", "is required with bulk_modulus");
+      if (nu != -1.0) p.fail("poisson_ratio", "belongs to youngs_modulus; with bulk_modulus and shear_modulus leave it out");
+      K_ = K;
+      G_ = G;
+    }
   }
 
-  std::vector<FieldInfo> fields() const override {
-    return {{field::plastic_strain, 1, "1"}, {field::von_mises_stress, 1, "Pa"}};
-  }
+  std::vector<FieldInfo> fields() const override { return outputs_.fields(); }
   double reference_density() const override { return rho0_; }
   double wave_speed() const override { return std::sqrt((K_ + 4.0 * G_ / 3.0) / rho0_); }
   double shear_modulus() const override { return G_; }
@@ -37,38 +51,37 @@ class Elastoplastic final : public Material {
   }
 
   void update_stress(MaterialBatch& b) override {
-    double* eps_p = b.fields->f64(field::plastic_strain) + b.first;
-    double* vm = b.fields->f64(field::von_mises_stress) + b.first;
-    const double two_g_dt = 2.0 * G_ * b.dt;
-#pragma omp parallel for schedule(static)
+    const j2::OptionalOutputs::Arrays out = outputs_.arrays(b);
+    const double two_g_dt = 2.0 * G_ * b.dt, three_g = 3.0 * G_;
+    const double y0 = yield0_, H = hardening_, beta = taylor_quinney_, inv_dt = 1.0 / b.dt;
+    long long failed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : failed)
     for (std::size_t i = 0; i < b.count; ++i) {
-      const double* L = b.velocity_gradient + 9 * i;
       double* s = b.deviatoric_stress + 6 * i;
-      // Elastic predictor with the deviatoric rate of deformation D' = sym(L) - tr(L)/3 I (eq. 15)
-      const double tr3 = (L[0] + L[4] + L[8]) / 3.0;
-      s[0] += two_g_dt * (L[0] - tr3);
-      s[1] += two_g_dt * (L[4] - tr3);
-      s[2] += two_g_dt * (L[8] - tr3);
-      s[3] += two_g_dt * 0.5 * (L[1] + L[3]);
-      s[4] += two_g_dt * 0.5 * (L[5] + L[7]);
-      s[5] += two_g_dt * 0.5 * (L[2] + L[6]);
-      // Radial return to the von Mises surface q = sigma_y0 + H eps_p (eq. 16); for linear
-      // hardening the consistency condition is linear in d_eps_p, so the return is exact.
-      const double ss = s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
-      const double q = std::sqrt(1.5 * ss);
-      const double yield = yield0_ + hardening_ * eps_p[i];
+      j2::elastic_predictor(b.velocity_gradient + 9 * i, two_g_dt, s);  // eq. 15
+      const double q = j2::von_mises(s);
+      const double eps = out.plastic_strain[i];
+      const double yield = y0 + H * eps;  // eq. 33a
+      double rate = 0.0, sigma_y = yield;
       if (q > yield) {
-        const double d_eps_p = (q - yield) / (3.0 * G_ + hardening_);
-        const double scale = (yield + hardening_ * d_eps_p) / q;
-        for (int c = 0; c < 6; ++c) s[c] *= scale;
-        eps_p[i] += d_eps_p;
-        vm[i] = yield + hardening_ * d_eps_p;
-      } else {
-        vm[i] = q;
+        // Linear hardening: sigma_y(d) = y0 + H (eps_p + d), slope H; the Newton return of
+        // eq. 34 is exact after one correction (g is linear in d).
+        const j2::ReturnResult r = j2::radial_return(
+            q, three_g, [&](double d) { return j2::YieldValue{yield + H * d, H}; }, yield);
+        failed += r.converged ? 0 : 1;
+        j2::scale_to_surface(s, q, r.yield_stress);  // eq. 35
+        out.plastic_strain[i] = eps + r.d_eps_p;
+        sigma_y = r.yield_stress;
+        rate = r.d_eps_p * inv_dt;
+        // Plastic heat beta sigma_y epsdot_p per unit mass (eq. 37).
+        if (b.heat_source) b.heat_source[i] += beta * sigma_y * rate / b.density[i];
       }
-      // Linear equation of state (eq. 17)
-      b.pressure[i] = K_ * (b.density[i] / rho0_ - 1.0);
+      if (out.plastic_strain_rate) out.plastic_strain_rate[i] = rate / b.time_scaling;
+      if (out.von_mises_stress) out.von_mises_stress[i] = std::min(q, sigma_y);
+      if (out.yield_stress) out.yield_stress[i] = sigma_y;
+      b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
     }
+    failed_ += failed;
   }
 
   void yield_stress(const MaterialBatch& b, double* out) const override {
@@ -76,24 +89,34 @@ class Elastoplastic final : public Material {
     for (std::size_t i = 0; i < b.count; ++i) out[i] = yield0_ + hardening_ * eps_p[i];
   }
 
+  long long failed_returns() const override { return failed_; }
+
  private:
-  double rho0_, E_, nu_, yield0_, hardening_, conductivity_, specific_heat_, G_ = 0, K_ = 0;
+  double rho0_, yield0_, hardening_, taylor_quinney_, conductivity_, specific_heat_, G_ = 0, K_ = 0;
+  j2::OptionalOutputs outputs_;
+  long long failed_ = 0;
 };
 
 const PluginDescriptor& descriptor() {
   static const PluginDescriptor d = make_plugin_descriptor<Elastoplastic>(
-      "elastoplastic", "0.1.0",
+      "elastoplastic", "0.2.0",
       "linear elasticity with von Mises plasticity, perfectly plastic or linear isotropic hardening",
       {
-        ParamSpec::number("density", "kg/m^3", std::nullopt, "reference density rho0 (mass-scaled if wanted)", 1e-6),
-        ParamSpec::number("youngs_modulus", "Pa", std::nullopt, "Young's modulus E", 1e-6),
-        ParamSpec::number("poisson_ratio", "1", std::nullopt, "Poisson's ratio nu", -0.999, 0.4999),
-        ParamSpec::number("yield_stress", "Pa", std::nullopt, "initial yield stress sigma_y0", 0.0),
-        ParamSpec::number("hardening_modulus", "Pa", 0.0, "linear isotropic hardening modulus H (0: perfectly plastic)", 0.0),
-        ParamSpec::number("conductivity", "W/(m*K)", 0.0, "thermal conductivity k (thermal cases)", 0.0),
-        ParamSpec::number("specific_heat", "J/(kg*K)", 0.0,
-                          "specific heat capacity c (thermal cases need it; 0: no thermal properties)", 0.0),
-    });
+          ParamSpec::number("density", "kg/m^3", std::nullopt, "reference density rho0 (mass-scaled if wanted)", 1e-6),
+          ParamSpec::number("youngs_modulus", "Pa", 0.0, "Young's modulus E (with poisson_ratio; or give K and G)", 0.0),
+          ParamSpec::number("poisson_ratio", "1", -1.0, "Poisson's ratio nu (with youngs_modulus; -1: not given)", -1.0,
+                            0.4999),
+          ParamSpec::number("bulk_modulus", "Pa", 0.0, "bulk modulus K (with shear_modulus, instead of E and nu)", 0.0),
+          ParamSpec::number("shear_modulus", "Pa", 0.0, "shear modulus G (with bulk_modulus, instead of E and nu)", 0.0),
+          ParamSpec::number("yield_stress", "Pa", std::nullopt, "initial yield stress sigma_y0", 0.0),
+          ParamSpec::number("hardening_modulus", "Pa", 0.0, "linear isotropic hardening modulus H (0: perfectly plastic)", 0.0),
+          ParamSpec::number("taylor_quinney", "1", 0.9, "fraction beta of the plastic work turned into heat (thermal cases)",
+                            0.0, 1.0),
+          ParamSpec::number("conductivity", "W/(m*K)", 0.0, "thermal conductivity k (thermal cases)", 0.0),
+          ParamSpec::number("specific_heat", "J/(kg*K)", 0.0,
+                            "specific heat capacity c (thermal cases need it; 0: no thermal properties)", 0.0),
+          j2::OptionalOutputs::spec(),
+      });
   return d;
 }
 

@@ -555,6 +555,7 @@ class Generic final : public Process {
         p.values.push_back(p.value);
       }
     }
+    extents(f, ctx.mechanical_count);
     // Linear and angular momentum (about the origin) of the mechanical particles.
     if (ctx.mechanical_count > 0) {
       const double* v = f.f64(field::velocity);
@@ -607,6 +608,15 @@ class Generic final : public Process {
     }
     for (std::size_t b = 0; b < body_mean_temperature_.size(); ++b)
       m[bodies_[b].string("name") + "_temperature_mean_K"] = body_mean_temperature_[b];
+    for (std::size_t b = 0; b < extent_.size(); ++b) {
+      if (!extent_[b].seen) continue;
+      const std::string name = bodies_[b].string("name");
+      m[name + "_length_z_m"] = extent_[b].length;
+      m[name + "_radius_max_m"] = extent_[b].radius;
+      m[name + "_base_radius_m"] = extent_[b].base_radius;
+      m[name + "_length_z_initial_m"] = extent_initial_[b].length;
+      m[name + "_radius_max_initial_m"] = extent_initial_[b].radius;
+    }
     return m;
   }
 
@@ -631,6 +641,43 @@ class Generic final : public Process {
     }
     if (crossings.size() < 2) return 0.0;
     return (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  }
+
+  /// Extent of each mechanical body (e.g. a Taylor bar): length along z, the largest distance of
+  /// a particle from the body's axis (parallel to z through its current centroid) and the same
+  /// within the lowest particle layer (z < z_min + dx/2, the impact face). Particle centres are
+  /// dx/2 inside the material's surface, so dx is added to the length and dx/2 to the radii; the
+  /// values at the first measurement are kept too (`_initial_`): on a cubic lattice clipped to a
+  /// cylinder they differ from the nominal radius by up to about dx/2.
+  void extents(const FieldRegistry& f, std::size_t n) {
+    const double* x = f.f64(field::position);
+    const std::int64_t* body = f.i64(field::body);
+    const std::size_t nb = bodies_.size();
+    std::vector<double> cx(nb, 0.0), cy(nb, 0.0), count(nb, 0.0), zmin(nb, std::numeric_limits<double>::infinity()),
+        zmax(nb, -std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto b = static_cast<std::size_t>(body[i]);
+      cx[b] += x[3 * i];
+      cy[b] += x[3 * i + 1];
+      count[b] += 1.0;
+      zmin[b] = std::min(zmin[b], x[3 * i + 2]);
+      zmax[b] = std::max(zmax[b], x[3 * i + 2]);
+    }
+    extent_.assign(nb, Extent{});
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto b = static_cast<std::size_t>(body[i]);
+      const double r = std::hypot(x[3 * i] - cx[b] / count[b], x[3 * i + 1] - cy[b] / count[b]);
+      extent_[b].radius = std::max(extent_[b].radius, r);
+      if (x[3 * i + 2] < zmin[b] + 0.5 * spacing_) extent_[b].base_radius = std::max(extent_[b].base_radius, r);
+    }
+    for (std::size_t b = 0; b < nb; ++b) {
+      if (count[b] == 0.0) continue;
+      extent_[b].seen = true;
+      extent_[b].length = zmax[b] - zmin[b] + spacing_;
+      extent_[b].radius += 0.5 * spacing_;
+      extent_[b].base_radius += 0.5 * spacing_;
+    }
+    if (extent_initial_.empty()) extent_initial_ = extent_;
   }
 
   /// Regions and probes remember particle indices; when the core reorders particles (locality)
@@ -738,6 +785,11 @@ class Generic final : public Process {
   std::vector<std::pair<double, double>> plane_velocity_;
   double momentum_[3] = {0, 0, 0}, angular_momentum_[3] = {0, 0, 0};
   std::vector<double> body_mean_temperature_;
+  struct Extent {
+    bool seen = false;
+    double length = 0.0, radius = 0.0, base_radius = 0.0;
+  };
+  std::vector<Extent> extent_, extent_initial_;
 };
 
 const PluginDescriptor& descriptor() {

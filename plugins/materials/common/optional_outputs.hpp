@@ -1,0 +1,78 @@
+// Output fields of the J2 material plugins. `plastic_strain` is state (always allocated); the
+// plastic strain rate, von Mises stress and yield stress are diagnostics, allocated only when the
+// case lists them in the material's "output_fields" (docs/theory.md section 5).
+#pragma once
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "sphforge/errors.hpp"
+#include "sphforge/fields.hpp"
+#include "sphforge/material.hpp"
+#include "sphforge/parameters.hpp"
+
+namespace sphforge::j2 {
+
+namespace output {
+inline constexpr const char* plastic_strain_rate = "plastic_strain_rate";  // 1/s, physical (rate / f)
+inline constexpr const char* yield_stress = "yield_stress";                // Pa
+}  // namespace output
+
+class OptionalOutputs {
+ public:
+  static ParamSpec spec() {
+    return ParamSpec::array("output_fields",
+                            "diagnostic fields to allocate and write: any of \"plastic_strain_rate\", "
+                            "\"von_mises_stress\", \"yield_stress\" (plastic_strain is always there)");
+  }
+
+  explicit OptionalOutputs(const ParamValues& p) {
+    if (!p.has("output_fields")) return;
+    const json& list = p.raw("output_fields");
+    if (list.is_null()) return;
+    if (!list.is_array()) p.fail("output_fields", "expected an array of field names");
+    static const std::vector<std::string> allowed = {output::plastic_strain_rate, field::von_mises_stress,
+                                                     output::yield_stress};
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const std::string where = p.pointer_of("output_fields") + "/" + std::to_string(k);
+      if (!list[k].is_string()) throw InputError(p.file(), where, "expected a field name (string)");
+      const std::string name = list[k].get<std::string>();
+      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+        throw InputError(p.file(), where,
+                         "unknown output field '" + name + "' (expected plastic_strain_rate, von_mises_stress or yield_stress)");
+      if (name == output::plastic_strain_rate) rate_ = true;
+      if (name == field::von_mises_stress) von_mises_ = true;
+      if (name == output::yield_stress) yield_ = true;
+    }
+  }
+
+  std::vector<FieldInfo> fields() const {
+    std::vector<FieldInfo> f = {{field::plastic_strain, 1, "1"}};
+    if (rate_) f.push_back({output::plastic_strain_rate, 1, "1/s"});
+    if (von_mises_) f.push_back({field::von_mises_stress, 1, "Pa"});
+    if (yield_) f.push_back({output::yield_stress, 1, "Pa"});
+    return f;
+  }
+
+  /// The batch's arrays, offset to its first particle; null for outputs not requested.
+  struct Arrays {
+    double* plastic_strain = nullptr;
+    double* plastic_strain_rate = nullptr;
+    double* von_mises_stress = nullptr;
+    double* yield_stress = nullptr;
+  };
+  Arrays arrays(MaterialBatch& b) const {
+    Arrays a;
+    a.plastic_strain = b.fields->f64(field::plastic_strain) + b.first;
+    if (rate_) a.plastic_strain_rate = b.fields->f64(output::plastic_strain_rate) + b.first;
+    if (von_mises_) a.von_mises_stress = b.fields->f64(field::von_mises_stress) + b.first;
+    if (yield_) a.yield_stress = b.fields->f64(output::yield_stress) + b.first;
+    return a;
+  }
+
+ private:
+  bool rate_ = false, von_mises_ = false, yield_ = false;
+};
+
+}  // namespace sphforge::j2
