@@ -11,9 +11,11 @@ void PenaltyContact::configure(const ContactSettings& settings, std::vector<cons
   settings_ = settings;
   laws_ = std::move(laws);
   spacing_ = spacing;
+  stats_.assign(laws_.size(), ToolContactStats{});
   // A particle pressed on a wall is resisted like a column of its own material of cross-section
   // dx^2 and length dx: k = M dx^2 / dx (eq. 10). Its frequency sqrt(k/m) = c/dx is then of the
   // order of the bulk's own, so the contact does not need a smaller step than the CFL limit.
+  // The paper's per-mass lambda1 = P / (2 dt^2) is this k divided by m (eq. 10a).
   stiffness_ = settings.stiffness_factor * p_wave_modulus * spacing;
 }
 
@@ -25,37 +27,47 @@ double PenaltyContact::stable_time_step(double min_mass) const {
   return 2.0 / omega * (std::sqrt(1.0 + z * z) - z);
 }
 
-std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x, const double* v,
-                                  const double* mass, const double* yield, std::size_t n, double dt,
-                                  double* force) {
+std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& a) {
   const double contact_radius = 0.5 * spacing_;  // a particle's half-width touches the wall
   const double area = spacing_ * spacing_;
+  const std::size_t n = a.n;
+  const double* x = a.x;
+  const double* v = a.v;
   distance_.resize(n);
   normal_.resize(3 * n);
+  if (stats_.size() != tools.size()) stats_.assign(tools.size(), ToolContactStats{});
   std::size_t total = 0, stuck = 0;
 
   for (std::size_t t = 0; t < tools.size(); ++t) {
     RigidTool& tool = tools[t];
+    ToolContactStats& st = stats_[t];
+    st = ToolContactStats{};
     tool.reaction_force_N.setZero();
     tool.reaction_torque_Nm = 0.0;
     tool.power_W = 0.0;
+    const ContactLaw* law = t < laws_.size() ? laws_[t] : nullptr;
+    double* hist = t < a.history.size() ? a.history[t] : nullptr;
     Eigen::Vector3d lo, hi;
     tool.bounds(lo, hi);
     lo.array() -= contact_radius;
     hi.array() += contact_radius;
 
+    // Culling: only particles inside the tool's bounds (+ the contact radius) ask the tool for
+    // their distance; the box test costs a few comparisons per particle.
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector3d xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-      if ((xi.array() < lo.array()).any() || (xi.array() > hi.array()).any()) {
-        distance_[i] = std::numeric_limits<double>::infinity();
-        continue;
+      double d = std::numeric_limits<double>::infinity();
+      if (!((xi.array() < lo.array()).any() || (xi.array() > hi.array()).any())) {
+        Eigen::Vector3d nrm;
+        d = tool.signed_distance(xi, nrm);
+        normal_[3 * i] = nrm.x();
+        normal_[3 * i + 1] = nrm.y();
+        normal_[3 * i + 2] = nrm.z();
       }
-      Eigen::Vector3d nrm;
-      distance_[i] = tool.signed_distance(xi, nrm);
-      normal_[3 * i] = nrm.x();
-      normal_[3 * i + 1] = nrm.y();
-      normal_[3 * i + 2] = nrm.z();
+      distance_[i] = d;
+      // A particle that left the contact forgets its tangential spring (eq. 18b).
+      if (hist && !(d < contact_radius)) hist[3 * i] = hist[3 * i + 1] = hist[3 * i + 2] = 0.0;
     }
 
     // Gather the touching particles in index order (deterministic).
@@ -68,13 +80,18 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
     batch_normal_.resize(3 * nc);
     batch_fn_.resize(nc);
     batch_gap_.resize(nc);
+    batch_vn_.resize(nc);
+    batch_damping_.resize(nc);
     batch_vt_.resize(3 * nc);
+    batch_acc_.resize(3 * nc);
     batch_vwall_.resize(3 * nc);
     batch_area_.assign(nc, area);
     batch_yield_.resize(nc);
+    batch_history_.resize(3 * nc);
     batch_ft_.assign(3 * nc, 0.0);
     batch_stick_.assign(nc, 0.0);
 
+#pragma omp parallel for schedule(static)
     for (std::size_t c = 0; c < nc; ++c) {
       const std::size_t i = particle_[c];
       const Eigen::Vector3d xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
@@ -84,54 +101,89 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
       const double vn = v_rel.dot(nrm);
       const double gap = contact_radius - distance_[i];
       // Damped penalty (eq. 11); a wall only pushes, never pulls.
-      const double damping = 2.0 * settings_.damping_ratio * std::sqrt(stiffness_ * mass[i]);
+      const double damping = 2.0 * settings_.damping_ratio * std::sqrt(stiffness_ * a.mass[i]);
       const double fn = std::max(0.0, stiffness_ * gap - damping * vn);
       // Tangential relative velocity: v - (v.n) n  (never a component-wise product).
       const Eigen::Vector3d vt = v_rel - vn * nrm;
-      batch_mass_[c] = mass[i];
+      batch_mass_[c] = a.mass[i];
       batch_fn_[c] = fn;
       batch_gap_[c] = gap;
-      batch_yield_[c] = yield ? yield[i] : std::numeric_limits<double>::infinity();
+      batch_vn_[c] = vn;
+      batch_damping_[c] = damping;
+      batch_yield_[c] = a.yield ? a.yield[i] : std::numeric_limits<double>::infinity();
       for (int d = 0; d < 3; ++d) {
         batch_normal_[3 * c + d] = nrm[d];
         batch_vt_[3 * c + d] = vt[d];
         batch_vwall_[3 * c + d] = v_wall[d];
+        batch_acc_[3 * c + d] = a.acceleration ? a.acceleration[3 * i + d] : 0.0;
+        batch_history_[3 * c + d] = hist ? hist[3 * i + d] : 0.0;
       }
     }
 
-    if (t < laws_.size() && laws_[t] != nullptr) {
+    if (law != nullptr) {
       ContactBatch batch;
       batch.count = nc;
-      batch.dt = dt;
+      batch.dt = a.dt;
+      batch.stiffness = stiffness_;
       batch.particle = particle_.data();
       batch.mass = batch_mass_.data();
       batch.normal = batch_normal_.data();
       batch.normal_force = batch_fn_.data();
       batch.penetration = batch_gap_.data();
+      batch.normal_velocity = batch_vn_.data();
+      batch.damping = batch_damping_.data();
       batch.tangential_velocity = batch_vt_.data();
+      batch.acceleration = batch_acc_.data();
       batch.contact_area = batch_area_.data();
       batch.yield_stress = batch_yield_.data();
+      batch.history = hist ? batch_history_.data() : nullptr;
       batch.tangential_force = batch_ft_.data();
       batch.sticking = batch_stick_.data();
-      laws_[t]->tangential_forces(batch);
+      law->tangential_forces(batch);
     }
 
-    Eigen::Vector3d reaction = Eigen::Vector3d::Zero();
-    double torque = 0.0, power = 0.0;
+    double rx = 0.0, ry = 0.0, rz = 0.0, torque = 0.0, power = 0.0, heat = 0.0, gap_sum = 0.0, gap_max = 0.0;
+    std::size_t tool_stuck = 0;
+    const double phi = settings_.heat_to_workpiece, inv_s = 1.0 / a.mass_scaling;
+    // Each contact writes only its own particle: the loop is parallel without races.
+#pragma omp parallel for schedule(static) reduction(+ : rx, ry, rz, torque, power, heat, gap_sum, tool_stuck) \
+    reduction(max : gap_max)
     for (std::size_t c = 0; c < nc; ++c) {
       const std::size_t i = particle_[c];
-      Eigen::Vector3d f;
-      for (int d = 0; d < 3; ++d) f[d] = batch_fn_[c] * batch_normal_[3 * c + d] + batch_ft_[3 * c + d];
-      for (int d = 0; d < 3; ++d) force[3 * i + d] += f[d];
+      double f[3];
+      for (int d = 0; d < 3; ++d) {
+        f[d] = batch_fn_[c] * batch_normal_[3 * c + d] + batch_ft_[3 * c + d];
+        a.force[3 * i + d] += f[d];
+      }
+      if (hist)
+        for (int d = 0; d < 3; ++d) hist[3 * i + d] = batch_history_[3 * c + d];
       // Newton's third law: the tool receives -f; torque about the z axis (x f_y - y f_x).
-      reaction -= f;
-      torque -= x[3 * i] * f.y() - x[3 * i + 1] * f.x();
-      power += f.dot(Eigen::Vector3d(batch_vwall_[3 * c], batch_vwall_[3 * c + 1], batch_vwall_[3 * c + 2]));
-      stuck += batch_stick_[c] > 0.5 ? 1 : 0;
+      rx -= f[0];
+      ry -= f[1];
+      rz -= f[2];
+      torque -= x[3 * i] * f[1] - x[3 * i + 1] * f[0];
+      power += f[0] * batch_vwall_[3 * c] + f[1] * batch_vwall_[3 * c + 1] + f[2] * batch_vwall_[3 * c + 2];
+      // Friction heat |f_t| |v_t| (eq. 18e); the workpiece's share phi heats the particle (eq. 18f).
+      const double* ft = &batch_ft_[3 * c];
+      const double* vt = &batch_vt_[3 * c];
+      const double q = std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]) *
+                       std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+      heat += q;
+      if (a.heat_source) a.heat_source[i] += phi * q / (a.mass[i] * inv_s);
+      gap_sum += batch_gap_[c];
+      gap_max = std::max(gap_max, batch_gap_[c]);
+      tool_stuck += batch_stick_[c] > 0.5 ? 1 : 0;
     }
-    tool.reaction_force_N = reaction;
+    tool.reaction_force_N = Eigen::Vector3d(rx, ry, rz);
     tool.reaction_torque_Nm = torque;
     tool.power_W = power;
+    st.contacts = nc;
+    st.penetration_mean_m = gap_sum / static_cast<double>(nc);
+    st.penetration_max_m = gap_max;
+    st.sticking_fraction = static_cast<double>(tool_stuck) / static_cast<double>(nc);
+    st.friction_heat_W = heat;
+    st.heat_to_workpiece_W = phi * heat;
+    stuck += tool_stuck;
     total += nc;
   }
   sticking_fraction_ = total ? static_cast<double>(stuck) / static_cast<double>(total) : 0.0;
