@@ -432,7 +432,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.contact.stiffness_factor = contact.number("stiffness_factor");
   settings_.contact.damping_ratio = contact.number("damping_ratio");
   settings_.contact.heat_to_workpiece = contact.number("friction_heat_to_workpiece");
-  if (root.has("body_force") && root.raw("body_force").is_object()) {
+  if (root.has("body_force") && root.raw("body_force").is_object() && !root.raw("body_force").empty()) {
     const ParamValues body_force = root.sub("body_force", body_force_specs());
     body_acceleration_ = vector3(body_force, "acceleration", "m/s^2");
   }
