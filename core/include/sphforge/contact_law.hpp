@@ -20,7 +20,7 @@ struct ContactBatch {
   const double* mass = nullptr;             ///< kg (inertial: mass scaling included)
   const double* normal = nullptr;           ///< 3 per contact, unit, pointing into the workpiece
   const double* normal_force = nullptr;     ///< N, >= 0 (magnitude of the penalty force, eq. 11)
-  const double* penetration = nullptr;      ///< m, >= 0
+  const double* penetration = nullptr;      ///< m, > 0 when touching (<= 0 only within wall_range())
   const double* normal_velocity = nullptr;  ///< m/s, (v - v_wall) . n (< 0: approaching)
   const double* damping = nullptr;          ///< N s/m, normal damping coefficient c_d = 2 zeta sqrt(k m)
   const double* tangential_velocity = nullptr;  ///< 3 per contact, particle minus wall, v - (v.n) n (m/s)
@@ -65,6 +65,11 @@ class ContactLaw {
   virtual bool needs_yield_stress() const { return false; }
   /// True if the law keeps per-contact memory in ContactBatch::history (3 numbers per contact).
   virtual bool needs_history() const { return false; }
+  /// Extra reach of the law beyond touching, as a fraction of dx: particles with
+  /// dx/2 <= d < dx/2 + wall_range() dx join the batch with penetration g <= 0 and f_n = 0. For
+  /// pressure-independent wall laws (Navier slip), whose wall-adjacent particles carry the wall
+  /// shear even where they press on the wall with no force (docs/theory.md eq. 18i).
+  virtual double wall_range() const { return 0.0; }
   virtual void tangential_forces(ContactBatch& batch) const = 0;
 };
 

@@ -47,10 +47,12 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     tool.power_W = 0.0;
     const ContactLaw* law = t < laws_.size() ? laws_[t] : nullptr;
     double* hist = t < a.history.size() ? a.history[t] : nullptr;
+    // A wall law may act a little beyond touching (eq. 18i); the penalty still needs g > 0.
+    const double reach = contact_radius + (law ? law->wall_range() * spacing_ : 0.0);
     Eigen::Vector3d lo, hi;
     tool.bounds(lo, hi);
-    lo.array() -= contact_radius;
-    hi.array() += contact_radius;
+    lo.array() -= reach;
+    hi.array() += reach;
 
     // Culling: only particles inside the tool's bounds (+ the contact radius) ask the tool for
     // their distance; the box test costs a few comparisons per particle.
@@ -67,13 +69,13 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       }
       distance_[i] = d;
       // A particle that left the contact forgets its tangential spring (eq. 18b).
-      if (hist && !(d < contact_radius)) hist[3 * i] = hist[3 * i + 1] = hist[3 * i + 2] = 0.0;
+      if (hist && !(d < reach)) hist[3 * i] = hist[3 * i + 1] = hist[3 * i + 2] = 0.0;
     }
 
     // Gather the touching particles in index order (deterministic).
     particle_.clear();
     for (std::size_t i = 0; i < n; ++i)
-      if (distance_[i] < contact_radius) particle_.push_back(i);
+      if (distance_[i] < reach) particle_.push_back(i);
     const std::size_t nc = particle_.size();
     if (nc == 0) continue;
     batch_mass_.resize(nc);
@@ -102,7 +104,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       const double gap = contact_radius - distance_[i];
       // Damped penalty (eq. 11); a wall only pushes, never pulls.
       const double damping = 2.0 * settings_.damping_ratio * std::sqrt(stiffness_ * a.mass[i]);
-      const double fn = std::max(0.0, stiffness_ * gap - damping * vn);
+      const double fn = gap > 0.0 ? std::max(0.0, stiffness_ * gap - damping * vn) : 0.0;
       // Tangential relative velocity: v - (v.n) n  (never a component-wise product).
       const Eigen::Vector3d vt = v_rel - vn * nrm;
       batch_mass_[c] = a.mass[i];
@@ -170,7 +172,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
                        std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
       heat += q;
       if (a.heat_source) a.heat_source[i] += phi * q / (a.mass[i] * inv_s);
-      gap_sum += batch_gap_[c];
+      gap_sum += std::max(batch_gap_[c], 0.0);
       gap_max = std::max(gap_max, batch_gap_[c]);
       tool_stuck += batch_stick_[c] > 0.5 ? 1 : 0;
     }

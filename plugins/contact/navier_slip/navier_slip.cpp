@@ -16,7 +16,14 @@ using namespace sphforge;
 class NavierSlip final : public ContactLaw {
  public:
   explicit NavierSlip(const ParamValues& p)
-      : tau0_(p.number("yield_shear_stress")), beta_(p.number("slip_coefficient")), n_(p.number("slip_exponent")) {}
+      : tau0_(p.number("yield_shear_stress")),
+        beta_(p.number("slip_coefficient")),
+        n_(p.number("slip_exponent")),
+        range_(p.number("wall_range")) {}
+
+  // The wall shear does not depend on the pressure, so the wall-adjacent particles carry it also
+  // where they do not press on the wall (eq. 18i).
+  double wall_range() const override { return range_; }
 
   void tangential_forces(ContactBatch& b) const override {
     for (std::size_t c = 0; c < b.count; ++c) {
@@ -37,7 +44,7 @@ class NavierSlip final : public ContactLaw {
   }
 
  private:
-  double tau0_, beta_, n_;
+  double tau0_, beta_, n_, range_;
 };
 
 const PluginDescriptor& descriptor() {
@@ -47,7 +54,11 @@ const PluginDescriptor& descriptor() {
       {ParamSpec::number("yield_shear_stress", "Pa", std::nullopt, "tau_0: wall shear stress at zero slip", 0.0),
        ParamSpec::number("slip_coefficient", "1", std::nullopt,
                          "beta in Pa (s/m)^n (SI number; its unit depends on n)", 0.0),
-       ParamSpec::number("slip_exponent", "1", 1.0, "n", 0.0, 2.0)});
+       ParamSpec::number("slip_exponent", "1", 1.0, "n", 0.0, 2.0),
+       ParamSpec::number("wall_range", "1", 0.25,
+                         "the law acts on particles closer than (1/2 + wall_range) dx to the wall, touching or "
+                         "not (theory eq. 18i); below 1 so that only the wall-adjacent layer is reached",
+                         0.0, 0.9)});
   return d;
 }
 

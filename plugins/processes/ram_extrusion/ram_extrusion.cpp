@@ -32,7 +32,7 @@ class RamExtrusion final : public Process {
     if (with_die_ && die_radius_ + fillet_ >= barrel_radius_)
       p.fail("die_diameter", "die radius plus entry fillet must be smaller than the barrel radius");
     if (ram_radius_ > barrel_radius_) p.fail("ram_diameter", "the ram must fit in the barrel");
-    if (spacing_ * 4 > billet_height_ || spacing_ * 2 > die_radius_ * 2 + 1e-12)
+    if (spacing_ * 4 > billet_height_ || (with_die_ && spacing_ * 2 > die_radius_ * 2 + 1e-12))
       p.fail("particle_spacing", "too coarse: need at least 4 particles over the billet height and 2 across the die");
     exit_z_ = with_die_ ? -std::max(land_length_, fillet_) : 0.0;
   }
@@ -50,12 +50,11 @@ class RamExtrusion final : public Process {
       // (a cubic lattice clipped to the circle leaves its outer particles at scattered distances,
       // most of them out of contact). The outer ring holds round(2 pi R0 / dx) particles: their
       // contact areas dx^2 then add up to the wall's 2 pi R0 dx per layer (wall laws act on that
-      // area, docs/contact.md). It starts 1e-5 dx into its contact range, so that it touches the
-      // wall even where the billet is unloaded (a radial prestress of ~1e-5 of the P-wave modulus).
+      // area, docs/contact.md).
       const int rings = static_cast<int>(std::floor(barrel_radius_ / spacing_ - 0.5 + 1e-9)) + 1;
       for (int k = 0; k < nz; ++k)
         for (int q = 0; q < rings; ++q) {
-          const double r = barrel_radius_ - (q + 0.5) * spacing_ + (q == 0 ? 1e-4 * spacing_ : 0.0);
+          const double r = barrel_radius_ - (q + 0.5) * spacing_;
           if (r < 0.25 * spacing_) {
             points.emplace_back(0.0, 0.0, (k + 0.5) * spacing_);
             continue;
