@@ -67,7 +67,9 @@ class PenaltyContact {
   /// Memory held by the scratch arrays (bytes).
   std::size_t bytes() const {
     std::size_t total = (distance_.capacity() + normal_.capacity()) * sizeof(double) +
-                        particle_.capacity() * sizeof(std::size_t);
+                        (particle_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
+                         cell_particles_.capacity() + cell_fill_.capacity()) * sizeof(std::size_t) +
+                        cell_near_.capacity();
     for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vn_, &batch_damping_,
                           &batch_vt_, &batch_acc_, &batch_area_, &batch_yield_, &batch_history_, &batch_ft_,
                           &batch_stick_, &batch_vwall_})
@@ -84,6 +86,12 @@ class PenaltyContact {
   // Scratch, kept between steps so that the pass does not allocate once warmed up.
   std::vector<double> distance_, normal_;
   std::vector<std::size_t> particle_;
+  // Culling cells (edge 2 dx) over the particles, rebuilt at every pass.
+  void bin_particles(const double* x, std::size_t n);
+  double cell_edge_ = 0.0, grid_lo_[3] = {0, 0, 0};
+  std::size_t grid_dims_[3] = {1, 1, 1};
+  std::vector<std::size_t> cell_of_, cell_start_, cell_particles_, cell_fill_;
+  std::vector<unsigned char> cell_near_;
   std::vector<double> batch_mass_, batch_normal_, batch_fn_, batch_gap_, batch_vn_, batch_damping_, batch_vt_,
       batch_acc_, batch_area_, batch_yield_, batch_history_, batch_ft_, batch_stick_, batch_vwall_;
 };
