@@ -207,9 +207,8 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     double rx = 0.0, ry = 0.0, rz = 0.0, torque = 0.0, power = 0.0, heat = 0.0, gap_sum = 0.0, gap_max = 0.0;
     std::size_t tool_stuck = 0;
     const double phi = settings_.heat_to_workpiece, inv_s = 1.0 / a.mass_scaling;
-    // Each contact writes only its own particle: the loop is parallel without races.
-#pragma omp parallel for schedule(static) reduction(+ : rx, ry, rz, torque, power, heat, gap_sum, tool_stuck) \
-    reduction(max : gap_max)
+    // Sequential over the contacts (a small fraction of the particles): the tool's sums then
+    // come out in the same order, bit for bit, whatever the thread count.
     for (std::size_t c = 0; c < nc; ++c) {
       const std::size_t i = particle_[c];
       double f[3];
