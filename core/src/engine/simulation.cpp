@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "backend.hpp"
+#include "engine/body_force.hpp"
 #include "engine/energy.hpp"
 #include "engine/heat_conduction.hpp"
 #include "engine/reorder.hpp"
@@ -837,15 +838,7 @@ void Simulation::mechanics_rates() {
   internal_energy_ += internal_work(m, v, a, dt_, n);
   // Body force (gravity), after the internal work so that it is not booked as internal (eq. 47),
   // and before the contact pass so that a sticking force can cancel it (eq. 18a).
-  if (body_acceleration_.squaredNorm() > 0.0) {
-    // The weight is the physical mass's: with mass scaling s the acceleration is g / s (eq. 47).
-    const double inv_s = 1.0 / settings_.mass_scaling;
-    const double g[3] = {body_acceleration_.x() * inv_s, body_acceleration_.y() * inv_s,
-                         body_acceleration_.z() * inv_s};
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i)
-      for (int d = 0; d < 3; ++d) a[3 * i + d] += g[d];
-  }
+  if (body_acceleration_.squaredNorm() > 0.0) add_body_force(body_acceleration_.data(), settings_.mass_scaling, a, n);
   std::fill(fc, fc + 3 * n, 0.0);
   if (!tools_.empty()) {
     const auto contact_start = std::chrono::steady_clock::now();
@@ -1021,16 +1014,8 @@ void Simulation::step() {
   if (mechanical_count_ > 0 && body_acceleration_.squaredNorm() > 0.0) {
     // Work of the body force with the step-centred velocity, sum m g . v^{n+1/2} dt (eq. 47): the
     // energy ledger of check_stability() counts it like the tools' work.
-    const double* vm = fields_.f64(field::velocity);
-    const double* mm = fields_.f64(field::mass);
-    const double inv_s = 1.0 / settings_.mass_scaling;
-    const double g0 = body_acceleration_.x() * inv_s, g1 = body_acceleration_.y() * inv_s,
-                 g2 = body_acceleration_.z() * inv_s;
-    double w = 0.0;
-#pragma omp parallel for reduction(+ : w) schedule(static)
-    for (std::size_t i = 0; i < mechanical_count_; ++i)
-      w += mm[i] * (g0 * vm[3 * i] + g1 * vm[3 * i + 1] + g2 * vm[3 * i + 2]);
-    body_force_work_J_ += w * dt_;
+    body_force_work_J_ += body_force_work(body_acceleration_.data(), settings_.mass_scaling, fields_.f64(field::mass),
+                                          fields_.f64(field::velocity), mechanical_count_, dt_);
   }
   for (auto& tool : tools_) {
     tool.work_J += tool.power_W * dt_;
