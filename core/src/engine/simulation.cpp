@@ -144,6 +144,8 @@ const ParamSpecs& contact_specs() {
 const ParamSpecs& body_force_specs() {
   static const ParamSpecs specs = {
       ParamSpec::array("acceleration", "[gx, gy, gz] (m/s^2), e.g. [0, 0, \"-9.81 m/s^2\"]", true),
+      ParamSpec::array("oscillation", "[ax, ay, az] (m/s^2): adds a cos(omega t) (a shaking table; theory eq. 47a)"),
+      ParamSpec::number("angular_frequency", "rad/s", 0.0, "omega of the oscillating part", 0.0),
   };
   return specs;
 }
@@ -436,6 +438,9 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   if (root.has("body_force") && root.raw("body_force").is_object() && !root.raw("body_force").empty()) {
     const ParamValues body_force = root.sub("body_force", body_force_specs());
     body_acceleration_ = vector3(body_force, "acceleration", "m/s^2");
+    if (body_force.has("oscillation") && !body_force.raw("oscillation").empty())
+      body_oscillation_ = vector3(body_force, "oscillation", "m/s^2");
+    body_angular_frequency_ = body_force.number("angular_frequency");
   }
   {
     auto [desc, values] = load_plugin(loader, PluginKind::Contact, contact, contact.raw("law"),
@@ -838,7 +843,9 @@ void Simulation::mechanics_rates() {
   internal_energy_ += internal_work(m, v, a, dt_, n);
   // Body force (gravity), after the internal work so that it is not booked as internal (eq. 47),
   // and before the contact pass so that a sticking force can cancel it (eq. 18a).
-  if (body_acceleration_.squaredNorm() > 0.0) add_body_force(body_acceleration_.data(), settings_.mass_scaling, a, n);
+  // g + A cos(omega t) at the step's time t^n, where the leapfrog evaluates every force (eq. 47a).
+  body_now_ = body_acceleration_ + body_oscillation_ * std::cos(body_angular_frequency_ * time_);
+  if (body_now_.squaredNorm() > 0.0) add_body_force(body_now_.data(), settings_.mass_scaling, a, n);
   std::fill(fc, fc + 3 * n, 0.0);
   if (!tools_.empty()) {
     const auto contact_start = std::chrono::steady_clock::now();
@@ -1011,10 +1018,10 @@ void Simulation::step() {
     constraint_work_J_ += added;
   }
   integrate();
-  if (mechanical_count_ > 0 && body_acceleration_.squaredNorm() > 0.0) {
+  if (mechanical_count_ > 0 && body_now_.squaredNorm() > 0.0) {
     // Work of the body force with the step-centred velocity, sum m g . v^{n+1/2} dt (eq. 47): the
     // energy ledger of check_stability() counts it like the tools' work.
-    body_force_work_J_ += body_force_work(body_acceleration_.data(), settings_.mass_scaling, fields_.f64(field::mass),
+    body_force_work_J_ += body_force_work(body_now_.data(), settings_.mass_scaling, fields_.f64(field::mass),
                                           fields_.f64(field::velocity), mechanical_count_, dt_);
   }
   for (auto& tool : tools_) {

@@ -147,6 +147,9 @@ class Simulation {
   /// Work of the body force (eq. 47), also part of the energy ledger.
   double body_force_work_J_ = 0.0;
   Eigen::Vector3d body_acceleration_ = Eigen::Vector3d::Zero();  ///< m/s^2, case section "body_force"
+  Eigen::Vector3d body_oscillation_ = Eigen::Vector3d::Zero();   ///< m/s^2, amplitude of the cos(omega t) part
+  Eigen::Vector3d body_now_ = Eigen::Vector3d::Zero();           ///< the body force of the current step
+  double body_angular_frequency_ = 0.0;                          ///< rad/s
   std::vector<const ContactLaw*> tool_laws_;  ///< friction law of each tool
   double contact_time_s_ = 0.0;               ///< wall time spent in the contact pass
   std::vector<double> constrained_scratch_;  ///< v + dt a before the constraints (3 per particle)
