@@ -11,9 +11,11 @@ void PenaltyContact::configure(const ContactSettings& settings, std::vector<cons
   settings_ = settings;
   laws_ = std::move(laws);
   spacing_ = spacing;
+  stats_.assign(laws_.size(), ToolContactStats{});
   // A particle pressed on a wall is resisted like a column of its own material of cross-section
   // dx^2 and length dx: k = M dx^2 / dx (eq. 10). Its frequency sqrt(k/m) = c/dx is then of the
   // order of the bulk's own, so the contact does not need a smaller step than the CFL limit.
+  // The paper's per-mass lambda1 = P / (2 dt^2) is this k divided by m (eq. 10a).
   stiffness_ = settings.stiffness_factor * p_wave_modulus * spacing;
 }
 
@@ -25,41 +27,143 @@ double PenaltyContact::stable_time_step(double min_mass) const {
   return 2.0 / omega * (std::sqrt(1.0 + z * z) - z);
 }
 
-std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x, const double* v,
-                                  const double* mass, const double* yield, std::size_t n, double dt,
-                                  double* force) {
+void PenaltyContact::bin_particles(const double* x, std::size_t n) {
+  // Cells of edge 2 dx over the particles' bounding box, particles counted into them (a counting
+  // sort, allocation-free once warmed up). One distance query per cell then decides whether its
+  // particles can touch a tool.
+  double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]};
+  for (std::size_t i = 1; i < n; ++i)
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], x[3 * i + d]);
+      hi[d] = std::max(hi[d], x[3 * i + d]);
+    }
+  cell_edge_ = 2.0 * spacing_;
+  std::size_t total = 1;
+  for (int d = 0; d < 3; ++d) {
+    grid_lo_[d] = lo[d];
+    grid_dims_[d] = static_cast<std::size_t>((hi[d] - lo[d]) / cell_edge_) + 1;
+    total *= grid_dims_[d];
+  }
+  // A scene far larger than its particle count (a particle thrown away) would make the grid
+  // huge: then one cell holds everything and every particle is tested, as without culling.
+  if (total > 8 * n + 64) {
+    for (int d = 0; d < 3; ++d) grid_dims_[d] = 1;
+    cell_edge_ = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], spacing_});
+    total = 1;
+  }
+  cell_of_.resize(n);
+  cell_start_.assign(total + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t c[3];
+    for (int d = 0; d < 3; ++d)
+      c[d] = std::min(grid_dims_[d] - 1, static_cast<std::size_t>((x[3 * i + d] - grid_lo_[d]) / cell_edge_));
+    cell_of_[i] = (c[2] * grid_dims_[1] + c[1]) * grid_dims_[0] + c[0];
+    ++cell_start_[cell_of_[i] + 1];
+  }
+  for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_particles_.resize(n);
+  cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) cell_particles_[cell_fill_[cell_of_[i]]++] = i;
+  cell_near_.resize(total);
+}
+
+std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& a) {
   const double contact_radius = 0.5 * spacing_;  // a particle's half-width touches the wall
   const double area = spacing_ * spacing_;
+  const std::size_t n = a.n;
+  const double* x = a.x;
+  const double* v = a.v;
   distance_.resize(n);
   normal_.resize(3 * n);
+  if (stats_.size() != tools.size()) stats_.assign(tools.size(), ToolContactStats{});
   std::size_t total = 0, stuck = 0;
+  if (n > 0) bin_particles(x, n);
+  const std::size_t ncells = cell_near_.size();
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * cell_edge_;
 
   for (std::size_t t = 0; t < tools.size(); ++t) {
     RigidTool& tool = tools[t];
+    ToolContactStats& st = stats_[t];
+    st = ToolContactStats{};
     tool.reaction_force_N.setZero();
     tool.reaction_torque_Nm = 0.0;
     tool.power_W = 0.0;
-    // One batch query per tool (docs/theory.md eqs. 40-46); particles farther than the contact
-    // radius outside the tool's bounds come back at infinite distance.
-    tool.signed_distance(n, x, distance_.data(), normal_.data(), contact_radius);
+    const ContactLaw* law = t < laws_.size() ? laws_[t] : nullptr;
+    double* hist = t < a.history.size() ? a.history[t] : nullptr;
+    // A wall law may act a little beyond touching (eq. 18i); the penalty still needs g > 0.
+    const double reach = contact_radius + (law ? law->wall_range() * spacing_ : 0.0);
+    Eigen::Vector3d lo, hi;
+    tool.bounds(lo, hi);
+    lo.array() -= reach;
+    hi.array() += reach;
+
+    // Culling (cells of 2 dx): a cell outside the tool's bounds (+ reach), or whose centre lies
+    // farther from the surface than its half-diagonal + reach, holds no particle that can touch
+    // (the distance to the surface changes at most as fast as the position); only the particles
+    // of the remaining cells ask the tool for their signed distance.
+#pragma omp parallel for schedule(dynamic, 16)
+    for (std::size_t c = 0; c < ncells; ++c) {
+      cell_near_[c] = 0;
+      if (cell_start_[c] == cell_start_[c + 1]) continue;
+      const std::size_t cx = c % grid_dims_[0], cy = (c / grid_dims_[0]) % grid_dims_[1],
+                        cz = c / (grid_dims_[0] * grid_dims_[1]);
+      const Eigen::Vector3d cmin(grid_lo_[0] + cx * cell_edge_, grid_lo_[1] + cy * cell_edge_,
+                                 grid_lo_[2] + cz * cell_edge_);
+      const Eigen::Vector3d cmax = cmin.array() + cell_edge_;
+      if ((cmax.array() < lo.array()).any() || (cmin.array() > hi.array()).any()) continue;
+      Eigen::Vector3d nrm;
+      const double dc = tool.signed_distance(0.5 * (cmin + cmax), nrm);
+      cell_near_[c] = dc <= half_diagonal + reach ? 1 : 0;
+    }
+    // The particles of the near cells ask the tool for their distance in one batch query
+    // (docs/theory.md eqs. 40-46: one virtual call per chunk of points, not per particle).
+    near_particles_.clear();
+    for (std::size_t s = 0; s < n; ++s)
+      if (cell_near_[cell_of_[cell_particles_[s]]]) near_particles_.push_back(cell_particles_[s]);
+    const std::size_t m = near_particles_.size();
+    near_x_.resize(3 * m);
+    near_distance_.resize(m);
+    near_normal_.resize(3 * m);
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < m; ++k)
+      for (int c = 0; c < 3; ++c) near_x_[3 * k + c] = x[3 * near_particles_[k] + c];
+    tool.signed_distance(m, near_x_.data(), near_distance_.data(), near_normal_.data(), reach);
+    std::fill(distance_.begin(), distance_.end(), std::numeric_limits<double>::infinity());
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::size_t i = near_particles_[k];
+      distance_[i] = near_distance_[k];
+      for (int c = 0; c < 3; ++c) normal_[3 * i + c] = near_normal_[3 * k + c];
+    }
+    // A particle that left the contact forgets its tangential spring (eq. 18b).
+    if (hist) {
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < n; ++i)
+        if (!(distance_[i] < reach)) hist[3 * i] = hist[3 * i + 1] = hist[3 * i + 2] = 0.0;
+    }
 
     // Gather the touching particles in index order (deterministic).
     particle_.clear();
     for (std::size_t i = 0; i < n; ++i)
-      if (distance_[i] < contact_radius) particle_.push_back(i);
+      if (distance_[i] < reach) particle_.push_back(i);
     const std::size_t nc = particle_.size();
     if (nc == 0) continue;
     batch_mass_.resize(nc);
     batch_normal_.resize(3 * nc);
     batch_fn_.resize(nc);
     batch_gap_.resize(nc);
+    batch_vn_.resize(nc);
+    batch_damping_.resize(nc);
     batch_vt_.resize(3 * nc);
+    batch_acc_.resize(3 * nc);
     batch_vwall_.resize(3 * nc);
     batch_area_.assign(nc, area);
     batch_yield_.resize(nc);
+    batch_history_.resize(3 * nc);
     batch_ft_.assign(3 * nc, 0.0);
     batch_stick_.assign(nc, 0.0);
 
+#pragma omp parallel for schedule(static)
     for (std::size_t c = 0; c < nc; ++c) {
       const std::size_t i = particle_[c];
       const Eigen::Vector3d xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
@@ -69,54 +173,88 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, const double* x
       const double vn = v_rel.dot(nrm);
       const double gap = contact_radius - distance_[i];
       // Damped penalty (eq. 11); a wall only pushes, never pulls.
-      const double damping = 2.0 * settings_.damping_ratio * std::sqrt(stiffness_ * mass[i]);
-      const double fn = std::max(0.0, stiffness_ * gap - damping * vn);
+      const double damping = 2.0 * settings_.damping_ratio * std::sqrt(stiffness_ * a.mass[i]);
+      const double fn = gap > 0.0 ? std::max(0.0, stiffness_ * gap - damping * vn) : 0.0;
       // Tangential relative velocity: v - (v.n) n  (never a component-wise product).
       const Eigen::Vector3d vt = v_rel - vn * nrm;
-      batch_mass_[c] = mass[i];
+      batch_mass_[c] = a.mass[i];
       batch_fn_[c] = fn;
       batch_gap_[c] = gap;
-      batch_yield_[c] = yield ? yield[i] : std::numeric_limits<double>::infinity();
+      batch_vn_[c] = vn;
+      batch_damping_[c] = damping;
+      batch_yield_[c] = a.yield ? a.yield[i] : std::numeric_limits<double>::infinity();
       for (int d = 0; d < 3; ++d) {
         batch_normal_[3 * c + d] = nrm[d];
         batch_vt_[3 * c + d] = vt[d];
         batch_vwall_[3 * c + d] = v_wall[d];
+        batch_acc_[3 * c + d] = a.acceleration ? a.acceleration[3 * i + d] : 0.0;
+        batch_history_[3 * c + d] = hist ? hist[3 * i + d] : 0.0;
       }
     }
 
-    if (t < laws_.size() && laws_[t] != nullptr) {
+    if (law != nullptr) {
       ContactBatch batch;
       batch.count = nc;
-      batch.dt = dt;
+      batch.dt = a.dt;
+      batch.stiffness = stiffness_;
       batch.particle = particle_.data();
       batch.mass = batch_mass_.data();
       batch.normal = batch_normal_.data();
       batch.normal_force = batch_fn_.data();
       batch.penetration = batch_gap_.data();
+      batch.normal_velocity = batch_vn_.data();
+      batch.damping = batch_damping_.data();
       batch.tangential_velocity = batch_vt_.data();
+      batch.acceleration = batch_acc_.data();
       batch.contact_area = batch_area_.data();
       batch.yield_stress = batch_yield_.data();
+      batch.history = hist ? batch_history_.data() : nullptr;
       batch.tangential_force = batch_ft_.data();
       batch.sticking = batch_stick_.data();
-      laws_[t]->tangential_forces(batch);
+      law->tangential_forces(batch);
     }
 
-    Eigen::Vector3d reaction = Eigen::Vector3d::Zero();
-    double torque = 0.0, power = 0.0;
+    double rx = 0.0, ry = 0.0, rz = 0.0, torque = 0.0, power = 0.0, heat = 0.0, gap_sum = 0.0, gap_max = 0.0;
+    std::size_t tool_stuck = 0;
+    const double phi = settings_.heat_to_workpiece, inv_s = 1.0 / a.mass_scaling;
+    // Sequential over the contacts (a small fraction of the particles): the tool's sums then
+    // come out in the same order, bit for bit, whatever the thread count.
     for (std::size_t c = 0; c < nc; ++c) {
       const std::size_t i = particle_[c];
-      Eigen::Vector3d f;
-      for (int d = 0; d < 3; ++d) f[d] = batch_fn_[c] * batch_normal_[3 * c + d] + batch_ft_[3 * c + d];
-      for (int d = 0; d < 3; ++d) force[3 * i + d] += f[d];
+      double f[3];
+      for (int d = 0; d < 3; ++d) {
+        f[d] = batch_fn_[c] * batch_normal_[3 * c + d] + batch_ft_[3 * c + d];
+        a.force[3 * i + d] += f[d];
+      }
+      if (hist)
+        for (int d = 0; d < 3; ++d) hist[3 * i + d] = batch_history_[3 * c + d];
       // Newton's third law: the tool receives -f; torque about the z axis (x f_y - y f_x).
-      reaction -= f;
-      torque -= x[3 * i] * f.y() - x[3 * i + 1] * f.x();
-      power += f.dot(Eigen::Vector3d(batch_vwall_[3 * c], batch_vwall_[3 * c + 1], batch_vwall_[3 * c + 2]));
-      stuck += batch_stick_[c] > 0.5 ? 1 : 0;
+      rx -= f[0];
+      ry -= f[1];
+      rz -= f[2];
+      torque -= x[3 * i] * f[1] - x[3 * i + 1] * f[0];
+      power += f[0] * batch_vwall_[3 * c] + f[1] * batch_vwall_[3 * c + 1] + f[2] * batch_vwall_[3 * c + 2];
+      // Friction heat |f_t| |v_t| (eq. 18e); the workpiece's share phi heats the particle (eq. 18f).
+      const double* ft = &batch_ft_[3 * c];
+      const double* vt = &batch_vt_[3 * c];
+      const double q = std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]) *
+                       std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+      heat += q;
+      if (a.heat_source) a.heat_source[i] += phi * q / (a.mass[i] * inv_s);
+      gap_sum += std::max(batch_gap_[c], 0.0);
+      gap_max = std::max(gap_max, batch_gap_[c]);
+      tool_stuck += batch_stick_[c] > 0.5 ? 1 : 0;
     }
-    tool.reaction_force_N = reaction;
+    tool.reaction_force_N = Eigen::Vector3d(rx, ry, rz);
     tool.reaction_torque_Nm = torque;
     tool.power_W = power;
+    st.contacts = nc;
+    st.penetration_mean_m = gap_sum / static_cast<double>(nc);
+    st.penetration_max_m = gap_max;
+    st.sticking_fraction = static_cast<double>(tool_stuck) / static_cast<double>(nc);
+    st.friction_heat_W = heat;
+    st.heat_to_workpiece_W = phi * heat;
+    stuck += tool_stuck;
     total += nc;
   }
   sticking_fraction_ = total ? static_cast<double>(stuck) / static_cast<double>(total) : 0.0;

@@ -1,6 +1,7 @@
-// Penalty contact between particles and rigid tools (theory eqs. 10-12). The normal force is a
-// damped penalty spring; the tangential force comes from the tool's contact-law plugin, called
-// once per tool with the whole batch of touching particles.
+// Penalty contact between particles and rigid tools (docs/theory.md eqs. 10-12, 18a-18f). The
+// normal force is a damped penalty spring; the tangential force comes from the tool's friction-law
+// plugin, called once per tool with the whole batch of touching particles. The pass also sums each
+// tool's reaction and torque and books the friction heat (eq. 18e).
 #pragma once
 
 #include <cstddef>
@@ -15,6 +16,35 @@ namespace sphforge {
 struct ContactSettings {
   double stiffness_factor = 1.0;  ///< kappa in k = kappa * M * dx (M: P-wave modulus rho0 c^2)
   double damping_ratio = 0.2;     ///< zeta: fraction of critical damping of the particle-spring
+  /// Fraction of the friction heat that enters the workpiece particle (eq. 18f); the rest goes
+  /// to the tool, which the core treats as thermally inert (docs/contact.md).
+  double heat_to_workpiece = 0.5;
+};
+
+/// What one contact pass reads and writes (particle arrays, n mechanical particles).
+struct ContactArrays {
+  const double* x = nullptr;             ///< m, 3 per particle
+  const double* v = nullptr;             ///< m/s, 3 per particle
+  const double* mass = nullptr;          ///< kg (inertial)
+  const double* acceleration = nullptr;  ///< m/s^2, 3 per particle, from every other force
+  const double* yield = nullptr;         ///< Pa, null when no law needs it
+  std::size_t n = 0;
+  double dt = 0.0;
+  double* force = nullptr;               ///< N, 3 per particle, contact forces are added
+  /// W/kg of physical mass, the workpiece's share of the friction heat is added (null: isothermal)
+  double* heat_source = nullptr;
+  double mass_scaling = 1.0;             ///< inertial / physical mass (eq. 24)
+  /// Per tool: its friction law's memory, 3 per particle (field friction_history_<tool>), or null.
+  std::vector<double*> history;
+};
+
+/// Per-tool contact statistics of the last pass (history.csv columns <tool>_...).
+struct ToolContactStats {
+  std::size_t contacts = 0;
+  double penetration_mean_m = 0.0, penetration_max_m = 0.0;
+  double sticking_fraction = 0.0;
+  double friction_heat_W = 0.0;          ///< sum |f_t| |v_t| (eq. 18e)
+  double heat_to_workpiece_W = 0.0;      ///< the workpiece's share of it (eq. 18f)
 };
 
 class PenaltyContact {
@@ -28,19 +58,23 @@ class PenaltyContact {
   /// Largest stable step for a particle of mass m on the contact spring (theory eq. 12).
   double stable_time_step(double min_mass) const;
 
-  /// Adds contact forces to `force` (N, 3 per particle), sets tool reactions, and returns the
-  /// number of contacts. Reads x, v, mass. `yield` may be null when no law needs it.
-  std::size_t apply(std::vector<RigidTool>& tools, const double* x, const double* v, const double* mass,
-                    const double* yield, std::size_t n, double dt, double* force);
+  /// Adds contact forces to `a.force`, sets tool reactions, and returns the number of contacts.
+  std::size_t apply(std::vector<RigidTool>& tools, ContactArrays& a);
 
   /// Fraction of contacts that stuck in the last apply() (0 when none).
   double sticking_fraction() const { return sticking_fraction_; }
+  const std::vector<ToolContactStats>& tool_stats() const { return stats_; }
   /// Memory held by the scratch arrays (bytes).
   std::size_t bytes() const {
-    std::size_t total = (distance_.capacity() + normal_.capacity()) * sizeof(double) +
-                        particle_.capacity() * sizeof(std::size_t);
-    for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vt_, &batch_area_,
-                          &batch_yield_, &batch_ft_, &batch_stick_, &batch_vwall_})
+    std::size_t total = (distance_.capacity() + normal_.capacity() + near_x_.capacity() + near_distance_.capacity() +
+                         near_normal_.capacity()) * sizeof(double) +
+                        (particle_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
+                         cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
+                            sizeof(std::size_t) +
+                        cell_near_.capacity();
+    for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vn_, &batch_damping_,
+                          &batch_vt_, &batch_acc_, &batch_area_, &batch_yield_, &batch_history_, &batch_ft_,
+                          &batch_stick_, &batch_vwall_})
       total += b->capacity() * sizeof(double);
     return total;
   }
@@ -50,11 +84,21 @@ class PenaltyContact {
   std::vector<const ContactLaw*> laws_;
   double spacing_ = 0.0, stiffness_ = 0.0;
   double sticking_fraction_ = 0.0;
+  std::vector<ToolContactStats> stats_;
   // Scratch, kept between steps so that the pass does not allocate once warmed up.
   std::vector<double> distance_, normal_;
   std::vector<std::size_t> particle_;
-  std::vector<double> batch_mass_, batch_normal_, batch_fn_, batch_gap_, batch_vt_, batch_area_, batch_yield_,
-      batch_ft_, batch_stick_, batch_vwall_;
+  // Culling cells (edge 2 dx) over the particles, rebuilt at every pass.
+  void bin_particles(const double* x, std::size_t n);
+  double cell_edge_ = 0.0, grid_lo_[3] = {0, 0, 0};
+  std::size_t grid_dims_[3] = {1, 1, 1};
+  std::vector<std::size_t> cell_of_, cell_start_, cell_particles_, cell_fill_;
+  std::vector<unsigned char> cell_near_;
+  // Particles of the near cells and their batch query (positions, distances, normals).
+  std::vector<std::size_t> near_particles_;
+  std::vector<double> near_x_, near_distance_, near_normal_;
+  std::vector<double> batch_mass_, batch_normal_, batch_fn_, batch_gap_, batch_vn_, batch_damping_, batch_vt_,
+      batch_acc_, batch_area_, batch_yield_, batch_history_, batch_ft_, batch_stick_, batch_vwall_;
 };
 
 }  // namespace sphforge

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "backend.hpp"
+#include "engine/body_force.hpp"
 #include "engine/energy.hpp"
 #include "engine/heat_conduction.hpp"
 #include "engine/reorder.hpp"
@@ -34,6 +35,7 @@ const ParamSpecs& top_level_specs() {
       ParamSpec::object("materials", "further materials by name, for bodies that name one (e.g. a tool's)"),
       ParamSpec::object("thermal", "heat conduction and convection; absent: isothermal (no thermal fields)"),
       ParamSpec::object("contact", "penalty contact settings and the friction law plugin", true),
+      ParamSpec::object("body_force", "uniform body force on every mechanical particle, e.g. gravity (theory eq. 47)"),
       ParamSpec::array("controllers", "controller plugins driving the process's commands"),
       ParamSpec::array("phases", "process phases, each with its controllers and end condition (docs/controllers.md)"),
       ParamSpec::object("numerics", "SPH discretisation settings"),
@@ -132,6 +134,19 @@ const ParamSpecs& contact_specs() {
       ParamSpec::number("damping_ratio", "1", 0.2, "fraction of critical damping of the contact spring", 0.0, 1.0),
       ParamSpec::object("law", "friction law plugin used on every tool", true),
       ParamSpec::object("tool_laws", "per-tool friction laws overriding 'law', keyed by tool name"),
+      ParamSpec::number("friction_heat_to_workpiece", "1", 0.5,
+                        "fraction of the friction heat |f_t||v_t| that enters the workpiece; the rest goes to the "
+                        "thermally inert tool (theory eq. 18f)",
+                        0.0, 1.0),
+  };
+  return specs;
+}
+
+const ParamSpecs& body_force_specs() {
+  static const ParamSpecs specs = {
+      ParamSpec::array("acceleration", "[gx, gy, gz] (m/s^2), e.g. [0, 0, \"-9.81 m/s^2\"]", true),
+      ParamSpec::array("oscillation", "[ax, ay, az] (m/s^2): adds a cos(omega t) (a shaking table; theory eq. 47a)"),
+      ParamSpec::number("angular_frequency", "rad/s", 0.0, "omega of the oscillating part", 0.0),
   };
   return specs;
 }
@@ -420,6 +435,14 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   const ParamValues contact = root.sub("contact", contact_specs());
   settings_.contact.stiffness_factor = contact.number("stiffness_factor");
   settings_.contact.damping_ratio = contact.number("damping_ratio");
+  settings_.contact.heat_to_workpiece = contact.number("friction_heat_to_workpiece");
+  if (root.has("body_force") && root.raw("body_force").is_object() && !root.raw("body_force").empty()) {
+    const ParamValues body_force = root.sub("body_force", body_force_specs());
+    body_acceleration_ = vector3(body_force, "acceleration", "m/s^2");
+    if (body_force.has("oscillation") && !body_force.raw("oscillation").empty())
+      body_oscillation_ = vector3(body_force, "oscillation", "m/s^2");
+    body_angular_frequency_ = body_force.number("angular_frequency");
+  }
   {
     auto [desc, values] = load_plugin(loader, PluginKind::Contact, contact, contact.raw("law"),
                                       "/contact/law");
@@ -441,6 +464,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     }
   }
   for (const ContactLaw* law : tool_laws) need_yield_ = need_yield_ || law->needs_yield_stress();
+  tool_laws_ = tool_laws;
 
   // Signals and controllers.
   process_->bind_signals(signals_);
@@ -491,7 +515,13 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     if (settings_.artificial_stress.epsilon > 0.0)
       passes_.push_back({"artificial_stress", {pressure, stress, density}, {}});
     passes_.push_back({"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}});
-    passes_.push_back({"contact", {position, velocity, mass}, {contact_force}});
+    // The friction laws that remember (the tangential spring of `coulomb`) keep it per particle,
+    // so that it follows the particle through reordering (eq. 18b).
+    std::vector<FieldInfo> contact_writes = {contact_force};
+    for (std::size_t t = 0; t < tools_.size(); ++t)
+      if (tool_laws[t]->needs_history())
+        contact_writes.push_back(FieldInfo{"friction_history_" + tools_[t].name(), 3, "N"});
+    if (!tools_.empty()) passes_.push_back({"contact", {position, velocity, mass, acceleration}, contact_writes});
     if (settings_.xsph > 0.0) passes_.push_back({"xsph", {position, velocity, mass, density}, {}});
     passes_.push_back({"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}});
   }
@@ -660,7 +690,7 @@ void Simulation::check_stability() const {
       double work = 0.0;
       for (const auto& t : tools_) work += t.work_J;
       const double ke = kinetic_energy();
-      const double budget = initial_kinetic_energy_ + std::max(work + constraint_work_J_, 0.0);
+      const double budget = initial_kinetic_energy_ + std::max(work + constraint_work_J_ + body_force_work_J_, 0.0);
       if (ke > 2.0 * budget && ke > 0.0) {
         const auto [fastest, speed] = fastest_particle(v, nm);
         throw InstabilityError(step_, time_, ids[fastest], field::velocity,
@@ -811,8 +841,31 @@ void Simulation::mechanics_rates() {
   // viscous dissipation), with the step-centred velocity so that the energy balance of a free
   // body closes to round-off (eq. 27).
   internal_energy_ += internal_work(m, v, a, dt_, n);
+  // Body force (gravity), after the internal work so that it is not booked as internal (eq. 47),
+  // and before the contact pass so that a sticking force can cancel it (eq. 18a).
+  // g + A cos(omega t) at the step's time t^n, where the leapfrog evaluates every force (eq. 47a).
+  body_now_ = body_acceleration_ + body_oscillation_ * std::cos(body_angular_frequency_ * time_);
+  if (body_now_.squaredNorm() > 0.0) add_body_force(body_now_.data(), settings_.mass_scaling, a, n);
   std::fill(fc, fc + 3 * n, 0.0);
-  contacts_ = contact_.apply(tools_, x, v, m, need_yield_ ? yield_scratch_.data() : nullptr, n, dt_, fc);
+  if (!tools_.empty()) {
+    const auto contact_start = std::chrono::steady_clock::now();
+    ContactArrays ca;
+    ca.x = x;
+    ca.v = v;
+    ca.mass = m;
+    ca.acceleration = a;
+    ca.yield = need_yield_ ? yield_scratch_.data() : nullptr;
+    ca.n = n;
+    ca.dt = dt_;
+    ca.force = fc;
+    ca.heat_source = heat_source;
+    ca.mass_scaling = settings_.mass_scaling;
+    ca.history.assign(tools_.size(), nullptr);
+    for (std::size_t t = 0; t < tools_.size(); ++t)
+      if (tool_laws_[t]->needs_history()) ca.history[t] = fields_.f64("friction_history_" + tools_[t].name());
+    contacts_ = contact_.apply(tools_, ca);
+    contact_time_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - contact_start).count();
+  }
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double inv_m = 1.0 / m[i];
@@ -966,6 +1019,12 @@ void Simulation::step() {
     constraint_work_J_ += added;
   }
   integrate();
+  if (mechanical_count_ > 0 && body_now_.squaredNorm() > 0.0) {
+    // Work of the body force with the step-centred velocity, sum m g . v^{n+1/2} dt (eq. 47): the
+    // energy ledger of check_stability() counts it like the tools' work.
+    body_force_work_J_ += body_force_work(body_now_.data(), settings_.mass_scaling, fields_.f64(field::mass),
+                                          fields_.f64(field::velocity), mechanical_count_, dt_);
+  }
   for (auto& tool : tools_) {
     tool.work_J += tool.power_W * dt_;
     tool.advance(dt_);
@@ -999,6 +1058,12 @@ std::vector<std::string> Simulation::history_header() const {
     h.push_back(t.name() + "_force_y_N");
     h.push_back(t.name() + "_force_z_N");
     h.push_back(t.name() + "_torque_Nm");
+    h.push_back(t.name() + "_contacts_1");
+    h.push_back(t.name() + "_penetration_mean_m");
+    h.push_back(t.name() + "_penetration_max_m");
+    h.push_back(t.name() + "_sticking_fraction_1");
+    h.push_back(t.name() + "_friction_heat_W");
+    h.push_back(t.name() + "_heat_to_workpiece_W");
   }
   for (const auto& t : tools_) {
     h.push_back(t.name() + "_position_m");
@@ -1034,11 +1099,20 @@ std::vector<double> Simulation::history_row() const {
     }
     r.push_back(mt / msum);
   }
-  for (const auto& t : tools_) {
+  const auto& stats = contact_.tool_stats();
+  for (std::size_t k = 0; k < tools_.size(); ++k) {
+    const auto& t = tools_[k];
     r.push_back(t.reaction_force_N.x());
     r.push_back(t.reaction_force_N.y());
     r.push_back(t.reaction_force_N.z());
     r.push_back(t.reaction_torque_Nm);
+    const ToolContactStats st = k < stats.size() ? stats[k] : ToolContactStats{};
+    r.push_back(static_cast<double>(st.contacts));
+    r.push_back(st.penetration_mean_m);
+    r.push_back(st.penetration_max_m);
+    r.push_back(st.sticking_fraction);
+    r.push_back(st.friction_heat_W);
+    r.push_back(st.heat_to_workpiece_W);
   }
   for (const auto& t : tools_) {
     r.push_back(t.axial_offset_m);
@@ -1178,6 +1252,8 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   }
   summary["kinetic_to_work_ratio_max"] = max_kinetic_to_work;
   if (const json phases = controllers_.summary(); !phases.empty()) summary["phases"] = phases;
+  // The contact pass's share of the wall time (culling, distances, friction laws, reactions).
+  summary["contact_time_s"] = contact_time_s_;
   summary["metrics"] = process_->metrics();
   // Return mappings that hit their iteration cap (docs/theory.md eq. 34): 0 in a sound run.
   long long failed_returns = 0;

@@ -145,6 +145,14 @@ class Simulation {
   /// Kinetic energy the process's constraints (prescribed velocities) put in, summed over the steps:
   /// part of the energy ledger of the instability check, like the tools' work.
   double constraint_work_J_ = 0.0;
+  /// Work of the body force (eq. 47), also part of the energy ledger.
+  double body_force_work_J_ = 0.0;
+  Eigen::Vector3d body_acceleration_ = Eigen::Vector3d::Zero();  ///< m/s^2, case section "body_force"
+  Eigen::Vector3d body_oscillation_ = Eigen::Vector3d::Zero();   ///< m/s^2, amplitude of the cos(omega t) part
+  Eigen::Vector3d body_now_ = Eigen::Vector3d::Zero();           ///< the body force of the current step
+  double body_angular_frequency_ = 0.0;                          ///< rad/s
+  std::vector<const ContactLaw*> tool_laws_;  ///< friction law of each tool
+  double contact_time_s_ = 0.0;               ///< wall time spent in the contact pass
   std::vector<double> constrained_scratch_;  ///< v + dt a before the constraints (3 per particle)
   double time_ = 0.0, dt_ = 0.0, dt_initial_ = 0.0, dt_cfl_ = 0.0, dt_contact_ = 0.0;
   long long step_ = 0;

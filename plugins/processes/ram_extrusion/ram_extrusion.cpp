@@ -27,12 +27,14 @@ class RamExtrusion final : public Process {
     spacing_ = p.number("particle_spacing");
     stroke_ = p.number("stroke");
     window_start_ = p.number("steady_window_start");
-    if (die_radius_ + fillet_ >= barrel_radius_)
+    rings_ = p.string("billet_lattice") == "rings";
+    with_die_ = p.boolean("die");
+    if (with_die_ && die_radius_ + fillet_ >= barrel_radius_)
       p.fail("die_diameter", "die radius plus entry fillet must be smaller than the barrel radius");
     if (ram_radius_ > barrel_radius_) p.fail("ram_diameter", "the ram must fit in the barrel");
-    if (spacing_ * 4 > billet_height_ || spacing_ * 2 > die_radius_ * 2 + 1e-12)
+    if (spacing_ * 4 > billet_height_ || (with_die_ && spacing_ * 2 > die_radius_ * 2 + 1e-12))
       p.fail("particle_spacing", "too coarse: need at least 4 particles over the billet height and 2 across the die");
-    exit_z_ = -std::max(land_length_, fillet_);
+    exit_z_ = with_die_ ? -std::max(land_length_, fillet_) : 0.0;
   }
 
   void build(SceneBuilder& scene) override {
@@ -42,17 +44,49 @@ class RamExtrusion final : public Process {
     const int nr = static_cast<int>(std::ceil(barrel_radius_ / spacing_));
     const int nz = static_cast<int>(std::floor(billet_height_ / spacing_ + 1e-9));
     const double rmax = barrel_radius_ - 0.5 * spacing_ + 1e-9 * spacing_;
-    for (int k = 0; k < nz; ++k)
-      for (int j = -nr; j < nr; ++j)
-        for (int i = -nr; i < nr; ++i) {
-          const Eigen::Vector3d x((i + 0.5) * spacing_, (j + 0.5) * spacing_, (k + 0.5) * spacing_);
-          if (std::hypot(x.x(), x.y()) <= rmax) points.push_back(x);
+    if (rings_) {
+      // Polar rings r = R0 - (k + 1/2) dx (k = 0 outermost), each with round(2 pi r / dx)
+      // particles, so that the whole outer ring lies dx/2 from the barrel wall and touches it
+      // (a cubic lattice clipped to the circle leaves its outer particles at scattered distances,
+      // most of them out of contact). The outer ring holds round(2 pi R0 / dx) particles: their
+      // contact areas dx^2 then add up to the wall's 2 pi R0 dx per layer (wall laws act on that
+      // area, docs/contact.md).
+      const int rings = static_cast<int>(std::floor(barrel_radius_ / spacing_ - 0.5 + 1e-9)) + 1;
+      for (int k = 0; k < nz; ++k)
+        for (int q = 0; q < rings; ++q) {
+          const double r = barrel_radius_ - (q + 0.5) * spacing_;
+          if (r < 0.25 * spacing_) {
+            points.emplace_back(0.0, 0.0, (k + 0.5) * spacing_);
+            continue;
+          }
+          const double circumference = 2.0 * std::numbers::pi * (q == 0 ? barrel_radius_ : r);
+          const int count = std::max(1, static_cast<int>(std::lround(circumference / spacing_)));
+          const double phase = 0.5 * ((q + k) % 2);  // staggered rings and layers
+          for (int a = 0; a < count; ++a) {
+            const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
+            points.emplace_back(r * std::cos(angle), r * std::sin(angle), (k + 0.5) * spacing_);
+          }
         }
+    } else {
+      for (int k = 0; k < nz; ++k)
+        for (int j = -nr; j < nr; ++j)
+          for (int i = -nr; i < nr; ++i) {
+            const Eigen::Vector3d x((i + 0.5) * spacing_, (j + 0.5) * spacing_, (k + 0.5) * spacing_);
+            if (std::hypot(x.x(), x.y()) <= rmax) points.push_back(x);
+          }
+    }
     scene.add_body("billet", points, spacing_);
     ram_top_start_ = nz * spacing_;
 
     // Barrel wall r = R0, walked upwards (material on the left = inside).
     barrel_ = scene.add_tool(RigidTool("barrel", {{barrel_radius_, 0.0}, {barrel_radius_, ram_top_start_ + 4 * spacing_}}));
+    if (!with_die_) {
+      // Open barrel end: the billet leaves the barrel at z = 0 (plug flow, docs/verification.md 11.5).
+      RigidTool ram("ram", {{ram_radius_, 0.0}, {0.0, 0.0}});
+      ram.axial_offset_m = ram_top_start_;
+      ram_ = scene.add_tool(std::move(ram));
+      return;
+    }
     // Die: in along its underside (so that extrudate swelling below the exit is outside the die,
     // not behind an open edge), up the land, round the entry fillet, out along the face.
     // The entry corner (r = die radius, z = 0) is rounded by an exact tangent arc of the fillet
@@ -134,6 +168,7 @@ class RamExtrusion final : public Process {
  private:
   double barrel_radius_, ram_radius_, billet_height_, die_radius_, land_length_, fillet_, spacing_, stroke_;
   double window_start_, exit_z_, ram_top_start_ = 0.0;
+  bool rings_ = false, with_die_ = true;
   std::size_t barrel_ = 0, die_ = 0, ram_ = 0;
   double ram_velocity_ = 0.0, ram_force_ = 0.0, ram_displacement_ = 0.0, pressure_ = 0.0;
   double extrudate_length_ = 0.0, extruded_ = 0.0, peak_pressure_ = 0.0;
@@ -155,6 +190,11 @@ const PluginDescriptor& descriptor() {
         ParamSpec::number("stroke", "m", 1.0, "the run ends when the ram has moved this far", 0.0),
         ParamSpec::number("steady_window_start", "m", 0.0,
                           "ram displacement from which the steady extrusion pressure is averaged", 0.0),
+        ParamSpec::string("billet_lattice", std::string("cubic"),
+                          "cubic: lattice clipped to the barrel; rings: polar rings whose outer ring touches the "
+                          "barrel wall (wall laws such as navier_slip)",
+                          {"cubic", "rings"}),
+        ParamSpec::boolean("die", true, "false: no die, the barrel is open at z = 0 (plug flow through the barrel)"),
     });
   return d;
 }
