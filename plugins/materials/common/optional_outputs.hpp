@@ -11,6 +11,7 @@
 #include "sphforge/fields.hpp"
 #include "sphforge/material.hpp"
 #include "sphforge/parameters.hpp"
+#include "j2_plasticity.hpp"
 
 namespace sphforge::j2 {
 
@@ -74,5 +75,31 @@ class OptionalOutputs {
  private:
   bool rate_ = false, von_mises_ = false, yield_ = false;
 };
+
+/// The plastic part of one particle's stress update, common to every J2 material: when the trial
+/// von Mises stress q exceeds `yield` (the yield stress at zero plastic increment), the Newton return
+/// with `yield_at(d)` (eq. 34), the scaling onto the surface (eq. 35), the plastic strain, the plastic
+/// heat beta sigma_y epsdot_p per unit mass (eq. 37); then the optional outputs. s: the particle's trial
+/// deviator, eps its plastic strain. Returns false when the return hit its iteration cap.
+template <class YieldAt>
+inline bool plastic_correction(const MaterialBatch& b, const OptionalOutputs::Arrays& out, std::size_t i, double* s,
+                               double q, double eps, double yield, double three_g, double inv_dt, double beta,
+                               const YieldAt& yield_at) {
+  double rate = 0.0, sigma_y = yield;
+  bool converged = true;
+  if (q > yield) {
+    const ReturnResult r = radial_return(q, three_g, yield_at, yield);  // eq. 34
+    converged = r.converged;
+    scale_to_surface(s, q, r.yield_stress);  // eq. 35
+    out.plastic_strain[i] = eps + r.d_eps_p;
+    sigma_y = r.yield_stress;
+    rate = r.d_eps_p * inv_dt;
+    if (b.heat_source) b.heat_source[i] += beta * sigma_y * rate / b.density[i];  // eq. 37
+  }
+  if (out.plastic_strain_rate) out.plastic_strain_rate[i] = rate / b.time_scaling;
+  if (out.von_mises_stress) out.von_mises_stress[i] = std::min(q, sigma_y);
+  if (out.yield_stress) out.yield_stress[i] = sigma_y;
+  return converged;
+}
 
 }  // namespace sphforge::j2

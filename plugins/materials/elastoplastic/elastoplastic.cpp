@@ -62,23 +62,10 @@ class Elastoplastic final : public Material {
       const double q = j2::von_mises(s);
       const double eps = out.plastic_strain[i];
       const double yield = y0 + H * eps;  // eq. 33a
-      double rate = 0.0, sigma_y = yield;
-      if (q > yield) {
-        // Linear hardening: sigma_y(d) = y0 + H (eps_p + d), slope H; the Newton return of
-        // eq. 34 is exact after one correction (g is linear in d).
-        const j2::ReturnResult r = j2::radial_return(
-            q, three_g, [&](double d) { return j2::YieldValue{yield + H * d, H}; }, yield);
-        failed += r.converged ? 0 : 1;
-        j2::scale_to_surface(s, q, r.yield_stress);  // eq. 35
-        out.plastic_strain[i] = eps + r.d_eps_p;
-        sigma_y = r.yield_stress;
-        rate = r.d_eps_p * inv_dt;
-        // Plastic heat beta sigma_y epsdot_p per unit mass (eq. 37).
-        if (b.heat_source) b.heat_source[i] += beta * sigma_y * rate / b.density[i];
-      }
-      if (out.plastic_strain_rate) out.plastic_strain_rate[i] = rate / b.time_scaling;
-      if (out.von_mises_stress) out.von_mises_stress[i] = std::min(q, sigma_y);
-      if (out.yield_stress) out.yield_stress[i] = sigma_y;
+      // Linear hardening: sigma_y(d) = y0 + H (eps_p + d), slope H; the Newton return of eq. 34 is
+      // exact after one correction (g is linear in d).
+      const auto hardening = [&](double d) { return j2::YieldValue{yield + H * d, H}; };
+      failed += j2::plastic_correction(b, out, i, s, q, eps, yield, three_g, inv_dt, beta, hardening) ? 0 : 1;
       b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
     }
     failed_ += failed;

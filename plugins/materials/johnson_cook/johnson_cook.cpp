@@ -110,21 +110,8 @@ class JohnsonCook final : public Material {
       const double theta = T ? JohnsonCookLaw::softening((T[i] - T_ref_) * inv_range, law.m) : 1.0;
       // Elastic check at zero plastic rate (R = 1): the yield stress the trial state must exceed.
       const double yield = law(eps, 0.0, inv_dt_phys, theta).stress;
-      double rate = 0.0, sigma_y = yield;
-      if (q > yield) {
-        const j2::ReturnResult r = j2::radial_return(
-            q, three_g, [&](double d) { return law(eps, d, inv_dt_phys, theta); }, yield);  // eq. 34
-        failed += r.converged ? 0 : 1;
-        j2::scale_to_surface(s, q, r.yield_stress);  // eq. 35
-        out.plastic_strain[i] = eps + r.d_eps_p;
-        sigma_y = r.yield_stress;
-        rate = r.d_eps_p * inv_dt;
-        // Plastic heat beta sigma_y epsdot_p per unit mass (eq. 37).
-        if (b.heat_source) b.heat_source[i] += beta * sigma_y * rate / b.density[i];
-      }
-      if (out.plastic_strain_rate) out.plastic_strain_rate[i] = rate / b.time_scaling;
-      if (out.von_mises_stress) out.von_mises_stress[i] = std::min(q, sigma_y);
-      if (out.yield_stress) out.yield_stress[i] = sigma_y;
+      const auto johnson_cook = [&](double d) { return law(eps, d, inv_dt_phys, theta); };  // eq. 36
+      failed += j2::plastic_correction(b, out, i, s, q, eps, yield, three_g, inv_dt, beta, johnson_cook) ? 0 : 1;
       b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
     }
     failed_ += failed;
