@@ -19,7 +19,22 @@ std::vector<std::string> keys(const std::map<std::string, SignalBus::Signal>& ma
   for (const auto& [k, v] : map) out.push_back(k);
   return out;
 }
+const SignalBus::Signal& require(const std::map<std::string, SignalBus::Signal>& map, const ParamValues& p,
+                                 const std::string& key, const char* kind, const char* offered) {
+  const std::string& name = p.string(key);
+  if (const SignalBus::Signal* s = find(map, name)) return *s;
+  std::string list;
+  for (const auto& [k, v] : map) list += (list.empty() ? "" : ", ") + k;
+  p.fail(key, std::string("unknown ") + kind + " '" + name + "'; " + offered + ": " + (list.empty() ? "(none)" : list));
+}
 }  // namespace
+
+const SignalBus::Signal& SignalBus::require_measured(const ParamValues& p, const std::string& key) const {
+  return require(measured_, p, key, "measured signal", "this process measures");
+}
+const SignalBus::Signal& SignalBus::require_command(const ParamValues& p, const std::string& key) const {
+  return require(commands_, p, key, "command", "commands available");
+}
 
 void SignalBus::add_measured(const std::string& name, const std::string& unit, double* value) {
   add(measured_, name, unit, value);

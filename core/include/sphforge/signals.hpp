@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "sphforge/parameters.hpp"
+
 namespace sphforge {
 
 class SignalBus {
@@ -24,6 +26,11 @@ class SignalBus {
   const Signal* command(const std::string& name) const;
   std::vector<std::string> measured_names() const;
   std::vector<std::string> command_names() const;
+
+  /// The signal named by the string parameter `key` of `p`; an unknown name is an InputError at that
+  /// parameter listing the signals the process offers (what `sphforge check` reports).
+  const Signal& require_measured(const ParamValues& p, const std::string& key) const;
+  const Signal& require_command(const ParamValues& p, const std::string& key) const;
 
  private:
   std::map<std::string, Signal> measured_, commands_;

@@ -26,12 +26,6 @@ const ParamSpecs& end_specs() {
   return specs;
 }
 
-std::string names_of(const std::vector<std::string>& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s.empty() ? "(none)" : s;
-}
-
 }  // namespace
 
 bool ControllerPhases::Phase::ended(double time) const {
@@ -58,8 +52,7 @@ void ControllerPhases::load(const ParamValues& root, const MakeController& make,
       const std::string& name = end.string("signal");
       const bool threshold = !end.string("above").empty() || !end.string("below").empty();
       if (!name.empty()) {
-        const SignalBus::Signal* s = bus.measured(name);
-        if (!s) end.fail("signal", "unknown measured signal '" + name + "'; this process measures: " + names_of(bus.measured_names()));
+        const SignalBus::Signal* s = &bus.require_measured(end, "signal");
         if (!threshold) end.fail("signal", "a signal condition needs \"above\" or \"below\"");
         phase.signal = s->value;
         for (const char* key : {"above", "below"}) {

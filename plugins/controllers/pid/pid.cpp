@@ -33,34 +33,23 @@ std::string column_unit(std::string unit) {
   return out;
 }
 
-std::string names_of(const std::vector<std::string>& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s.empty() ? "(none)" : s;
-}
-
 class Pid final : public Controller {
  public:
   explicit Pid(const ParamValues& p) : params_(p), name_(p.string("name")) {}
 
   void declare(SignalBus& bus) override {
-    const std::string& measured = params_.string("measured");
-    measured_signal_ = bus.measured(measured);
-    if (!measured_signal_)
-      params_.fail("measured", "unknown measured signal '" + measured + "'; this process measures: " +
-                                   names_of(bus.measured_names()));
+    measured_signal_ = &bus.require_measured(params_, "measured");
     target_ = params_.quantity("target", measured_signal_->unit);
+    if (bus.command(name_ + "_target"))
+      params_.fail("name", "another controller already offers the command '" + name_ + "_target': give each pid its own name");
     bus.add_command(name_ + "_target", measured_signal_->unit, &target_);
   }
 
   void bind(SignalBus& bus) override {
-    const std::string& command = params_.string("command");
-    const SignalBus::Signal* cmd = bus.command(command);
-    if (!cmd)
-      params_.fail("command", "unknown command '" + command + "'; commands available: " + names_of(bus.command_names()));
-    if (command == name_ + "_target") params_.fail("command", "a PID cannot drive its own target");
-    command_ = cmd->value;
-    const std::string u = cmd->unit, y = measured_signal_->unit;
+    const SignalBus::Signal& cmd = bus.require_command(params_, "command");
+    if (params_.string("command") == name_ + "_target") params_.fail("command", "a PID cannot drive its own target");
+    command_ = cmd.value;
+    const std::string u = cmd.unit, y = measured_signal_->unit;
 
     // Gains carry units, e.g. "0.015 mm/s/kN": a gain meant for another command or signal is
     // refused here by its dimension, before the run.

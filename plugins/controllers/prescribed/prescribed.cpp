@@ -12,13 +12,7 @@ class Prescribed final : public Controller {
   explicit Prescribed(const ParamValues& p) : params_(p) {}
 
   void bind(SignalBus& bus) override {
-    const std::string& name = params_.string("command");
-    const SignalBus::Signal* signal = bus.command(name);
-    if (!signal) {
-      std::string names;
-      for (const auto& n : bus.command_names()) names += (names.empty() ? "" : ", ") + n;
-      params_.fail("command", "unknown command '" + name + "'; this process accepts: " + names);
-    }
+    const SignalBus::Signal* signal = &bus.require_command(params_, "command");
     // The value's unit is that of the command, known only now.
     value_ = params_.quantity("value", signal->unit);
     target_ = signal->value;

@@ -18,13 +18,7 @@ class Schedule final : public Controller {
   explicit Schedule(const ParamValues& p) : params_(p) {}
 
   void bind(SignalBus& bus) override {
-    const std::string& name = params_.string("command");
-    const SignalBus::Signal* signal = bus.command(name);
-    if (!signal) {
-      std::string names;
-      for (const auto& n : bus.command_names()) names += (names.empty() ? "" : ", ") + n;
-      params_.fail("command", "unknown command '" + name + "'; commands available: " + names);
-    }
+    const SignalBus::Signal* signal = &bus.require_command(params_, "command");
     function_ = control::read_piecewise_linear(params_, "points", signal->unit);
     target_ = signal->value;
     *target_ = function_(0.0);
