@@ -354,24 +354,42 @@ const std::string& ParamValues::string(const std::string& name) const {
   return v.get_ref<const std::string&>();
 }
 
+namespace {
+/// One array entry `e` of parameter `name` as a number (SI) or a "value unit" string in `unit`; errors
+/// name the parameter and the entry (`where`).
+double quantity_entry(const ParamValues& p, const std::string& name, const json& e, const std::string& where,
+                      const std::string& unit) {
+  if (e.is_number()) return e.get<double>();
+  if (e.is_string()) {
+    try {
+      return parse_quantity(e.get<std::string>(), unit);
+    } catch (const std::invalid_argument& ex) {
+      p.fail(name, where + ": " + ex.what());
+    }
+  }
+  p.fail(name, where + ": expected a number or a \"value unit\" string in " + unit);
+}
+}  // namespace
+
 std::vector<double> ParamValues::quantities(const std::string& name, std::size_t count, const std::string& unit) const {
   const json& value = raw(name);
   if (!value.is_array() || value.size() != count)
     fail(name, "expected an array of " + std::to_string(count) + " values in " + unit);
   std::vector<double> out(count);
-  for (std::size_t c = 0; c < count; ++c) {
-    const json& e = value[c];
-    if (e.is_number()) {
-      out[c] = e.get<double>();
-    } else if (e.is_string()) {
-      try {
-        out[c] = parse_quantity(e.get<std::string>(), unit);
-      } catch (const std::invalid_argument& ex) {
-        fail(name, "component " + std::to_string(c) + ": " + ex.what());
-      }
-    } else {
-      fail(name, "component " + std::to_string(c) + ": expected a number or a \"value unit\" string");
-    }
+  for (std::size_t c = 0; c < count; ++c) out[c] = quantity_entry(*this, name, value[c], "component " + std::to_string(c), unit);
+  return out;
+}
+
+std::vector<std::pair<double, double>> ParamValues::pairs(const std::string& name, const std::string& unit_a,
+                                                          const std::string& unit_b) const {
+  const json& v = raw(name);
+  if (!v.is_array() || v.empty()) fail(name, "expected a non-empty array of [" + unit_a + ", " + unit_b + "] pairs");
+  std::vector<std::pair<double, double>> out;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const std::string at = "entry " + std::to_string(k);
+    if (!v[k].is_array() || v[k].size() != 2) fail(name, at + ": expected a pair [" + unit_a + ", " + unit_b + "]");
+    out.emplace_back(quantity_entry(*this, name, v[k][0], at + " [0]", unit_a),
+                     quantity_entry(*this, name, v[k][1], at + " [1]", unit_b));
   }
   return out;
 }

@@ -1,6 +1,6 @@
 // The PID law of the `pid` controller against closed-form responses of a first-order plant
 // tau y' = -y + K u (K = 2, tau = 0.5 s, r = 1), docs/theory.md eqs. 61-64, and the
-// piecewise-linear schedule (eq. 60).
+// piecewise-linear schedule (eqs. 45, 60).
 //
 // The plant is advanced exactly over each step with the command held (zero-order hold), so the
 // only error is the sampling of the controller: O(dt) = 1e-5 with dt = 1e-5 s. The tolerance
@@ -9,9 +9,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <vector>
 
-#include "controllers/common/piecewise_linear.hpp"
+#include "sphforge/piecewise_linear.hpp"
 #include "controllers/pid/pid_law.hpp"
 
 namespace {
@@ -169,13 +170,16 @@ TEST(PidLaw, DerivativeOnMeasurementHasNoKickOnTargetStep) {
 }
 
 TEST(PiecewiseLinear, InterpolatesHoldsAndJumps) {
-  const PiecewiseLinear f({0.0, 26.0, 36.0, 36.0, 40.0}, {300.0, 300.0, 90.0, 50.0, 10.0});
+  const sphforge::PiecewiseLinear f({{0.0, 300.0}, {26.0, 300.0}, {36.0, 90.0}, {36.0, 50.0}, {40.0, 10.0}});
   EXPECT_DOUBLE_EQ(f(-1.0), 300.0);
   EXPECT_DOUBLE_EQ(f(13.0), 300.0);
   EXPECT_DOUBLE_EQ(f(31.0), 195.0);
   EXPECT_DOUBLE_EQ(f(36.0), 50.0);  // two points at one time: the later value from that instant
   EXPECT_DOUBLE_EQ(f(38.0), 30.0);
   EXPECT_DOUBLE_EQ(f(100.0), 10.0);
+  // The integral is exact across the jump: 26 * 300 + 10 * (300 + 90) / 2 + 4 * (50 + 10) / 2.
+  EXPECT_DOUBLE_EQ(f.integral(0.0, 40.0), 26.0 * 300.0 + 5.0 * 390.0 + 2.0 * 60.0);
+  EXPECT_THROW(sphforge::PiecewiseLinear({{1.0, 0.0}, {0.5, 1.0}}), std::invalid_argument);  // time runs back
 }
 
 }  // namespace

@@ -304,7 +304,7 @@ TEST(Tools, SurfaceVelocity) {
 
 TEST(Tools, ScheduleLandsOnItsIntegral) {
   // v(t): 0 -> 2 m/s over 1 s, then 2 m/s until 2 s, then down to -1 m/s at 3 s, held after.
-  const MotionSchedule s({{0.0, 0.0}, {1.0, 2.0}, {2.0, 2.0}, {3.0, -1.0}});
+  const PiecewiseLinear s({{0.0, 0.0}, {1.0, 2.0}, {2.0, 2.0}, {3.0, -1.0}});
   EXPECT_DOUBLE_EQ(s.value(0.5), 1.0);
   EXPECT_DOUBLE_EQ(s.value(2.5), 0.5);
   EXPECT_DOUBLE_EQ(s.value(7.0), -1.0);
@@ -312,7 +312,7 @@ TEST(Tools, ScheduleLandsOnItsIntegral) {
   // Steps of uneven length, crossing the knots: the pose follows the exact integral.
   RigidTool t = RigidTool::cylinder("c", 0.1, 0.0, 1.0, true);
   t.axial_schedule = s;
-  t.angular_schedule = MotionSchedule({{0.0, 1.0}});
+  t.angular_schedule = PiecewiseLinear({{0.0, 1.0}});
   double time = 0.0;
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(0.001, 0.037);
@@ -324,7 +324,7 @@ TEST(Tools, ScheduleLandsOnItsIntegral) {
   }
   EXPECT_NEAR(t.axial_offset_m, s.integral(0.0, time), 1e-12);  // sum of ~200 steps: round-off
   EXPECT_NEAR(t.angle_rad, time, 1e-12);
-  EXPECT_THROW(MotionSchedule({{1.0, 0.0}, {1.0, 2.0}}), std::invalid_argument);
+  EXPECT_THROW(PiecewiseLinear({{1.0, 0.0}, {0.5, 2.0}}), std::invalid_argument);  // time runs back
 }
 
 TEST(Tools, SurfacesForOutput) {

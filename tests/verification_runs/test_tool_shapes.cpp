@@ -152,7 +152,7 @@ TEST(ToolShapes, InputErrorsNameTheToolsPointer) {
       {R"(process.tools.0={"name":"wall","shape":"profile","points":[[0,0],["1 mm",0],["1 mm","1 mm"]],"fillet_radius":"2 mm"})",
        "/process/tools/0/fillet_radius"},
       {R"(process.tools.0={"name":"wall","shape":"profile","points":[[0,0],["1 kg",0]]})", "/process/tools/0/points"},
-      {R"(process.tools.0.axial_schedule=[["1 ms",0],["1 ms",1]])", "/process/tools/0/axial_schedule"},
+      {R"(process.tools.0.axial_schedule=[["2 ms",0],["1 ms",1]])", "/process/tools/0/axial_schedule"},
       {R"(process.tools.0.normal=[0,0,0])", "/process/tools/0/normal"},
       {R"(process.planes=[{"name":"wall","z":0}])", "/process/tools/0/name"},
   };

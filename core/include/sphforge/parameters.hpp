@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -66,6 +67,10 @@ class ParamValues {
   /// converted to SI in `unit` (e.g. a vector ["5 mm", 0, "1 cm"] in "m"); anything else throws
   /// InputError at its pointer.
   std::vector<double> quantities(const std::string& name, std::size_t count, const std::string& unit) const;
+  /// An Array parameter of pairs [[a, b], ...] (at least one), a in `unit_a` and b in `unit_b`, each a
+  /// number (SI) or a "value unit" string, e.g. a schedule [["0 s", "1 mm/s"], ["5 s", "2 mm/s"]].
+  std::vector<std::pair<double, double>> pairs(const std::string& name, const std::string& unit_a,
+                                               const std::string& unit_b) const;
 
   /// Validates the Object parameter `name` (or element `index` of an Array) against `specs`.
   ParamValues sub(const std::string& name, const ParamSpecs& specs) const;

@@ -24,6 +24,8 @@
 
 #include <Eigen/Core>
 
+#include "sphforge/piecewise_linear.hpp"
+
 namespace sphforge {
 
 /// One piece of a profile: a straight segment a -> b, or an exact circular arc a -> b about
@@ -98,23 +100,6 @@ class ToolShape {
   virtual bool axisymmetric() const { return false; }
 };
 
-/// Piecewise-linear function of time from (t_k, v_k) pairs, constant before the first and after
-/// the last; its integral is exact (the tool lands where the schedule says), eq. (45).
-class MotionSchedule {
- public:
-  MotionSchedule() = default;
-  /// Times strictly increasing; throws std::invalid_argument otherwise or when empty.
-  explicit MotionSchedule(std::vector<std::pair<double, double>> points);
-  double value(double t) const;
-  /// Integral of the schedule from t0 to t1 (exact).
-  double integral(double t0, double t1) const;
-  bool empty() const { return t_.empty(); }
-
- private:
-  double antiderivative(double t) const;    // integral from t_0 to t
-  std::vector<double> t_, v_, cumulative_;  // cumulative_[k] = integral from t_0 to t_k
-};
-
 class RigidTool {
  public:
   /// A body of revolution from a polyline profile (no fillets).
@@ -163,7 +148,7 @@ class RigidTool {
   double angular_velocity_rad_s = 0.0;  ///< about +z (right-hand rule)
   /// Prescribed schedules of axial velocity (m/s) and angular velocity (rad/s) against time;
   /// when set, begin_step() overrides the velocity the process set.
-  MotionSchedule axial_schedule, angular_schedule;
+  PiecewiseLinear axial_schedule, angular_schedule;
 
   // Reactions accumulated by the contact pass during the last step (force ON the tool).
   Eigen::Vector3d reaction_force_N = Eigen::Vector3d::Zero();

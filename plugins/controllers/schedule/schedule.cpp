@@ -5,8 +5,8 @@
 // or a PID's target (the command `<pid name>_target`): 50 kN while heating, ramped to 300 kN.
 #include <string>
 
-#include "../common/piecewise_linear.hpp"
 #include "sphforge/errors.hpp"
+#include "sphforge/piecewise_linear.hpp"
 #include "sphforge/plugin.hpp"
 
 namespace {
@@ -19,7 +19,7 @@ class Schedule final : public Controller {
 
   void bind(SignalBus& bus) override {
     const SignalBus::Signal* signal = &bus.require_command(params_, "command");
-    function_ = control::read_piecewise_linear(params_, "points", signal->unit);
+    function_ = PiecewiseLinear(params_.pairs("points", "s", signal->unit));
     target_ = signal->value;
     *target_ = function_(0.0);
   }
@@ -28,7 +28,7 @@ class Schedule final : public Controller {
 
  private:
   ParamValues params_;
-  control::PiecewiseLinear function_;
+  PiecewiseLinear function_;
   double* target_ = nullptr;
 };
 

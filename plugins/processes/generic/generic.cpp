@@ -137,35 +137,6 @@ const ParamSpecs& tool_specs() {
   return specs;
 }
 
-/// One entry of an array parameter as a number (SI) or a "value unit" string in `unit`; errors
-/// are reported at the parameter `name`, naming the entry (`where`).
-double quantity_at(const ParamValues& q, const std::string& name, const json& e, const std::string& where,
-                   const std::string& unit) {
-  if (e.is_number()) return e.get<double>();
-  if (e.is_string()) {
-    try {
-      return parse_quantity(e.get<std::string>(), unit);
-    } catch (const std::invalid_argument& ex) {
-      q.fail(name, where + ": " + ex.what());
-    }
-  }
-  q.fail(name, where + ": expected a number or a \"value unit\" string in " + unit);
-}
-
-/// An array parameter of pairs [[a, b], ...], a in `unit_a` and b in `unit_b`.
-std::vector<std::pair<double, double>> pairs(const ParamValues& q, const std::string& name, const std::string& unit_a,
-                                             const std::string& unit_b) {
-  const json& v = q.raw(name);
-  if (!v.is_array() || v.empty()) q.fail(name, "expected a non-empty array of [" + unit_a + ", " + unit_b + "] pairs");
-  std::vector<std::pair<double, double>> out;
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    const std::string at = "entry " + std::to_string(k);
-    if (!v[k].is_array() || v[k].size() != 2) q.fail(name, at + ": expected a pair [" + unit_a + ", " + unit_b + "]");
-    out.emplace_back(quantity_at(q, name, v[k][0], at + " [0]", unit_a), quantity_at(q, name, v[k][1], at + " [1]", unit_b));
-  }
-  return out;
-}
-
 /// A tool of the `tools` array (docs/processes/generic.md), in its initial pose.
 RigidTool make_tool(const ParamValues& q) {
   const std::string name = q.string("name"), shape = q.string("shape");
@@ -182,7 +153,7 @@ RigidTool make_tool(const ParamValues& q) {
   } else if (shape == "profile") {
     if (!given(q, "points")) q.fail("shape", "a profile needs points");
     std::vector<Eigen::Vector2d> points;
-    for (const auto& [r, z] : pairs(q, "points", "m", "m")) points.emplace_back(r, z);
+    for (const auto& [r, z] : q.pairs("points", "m", "m")) points.emplace_back(r, z);
     std::vector<std::size_t> corners;
     if (given(q, "fillet_corners")) {
       const json& c = q.raw("fillet_corners");
@@ -214,13 +185,13 @@ RigidTool make_tool(const ParamValues& q) {
   tool->axial_velocity_m_s = q.number("axial_velocity");
   tool->angular_velocity_rad_s = q.number("angular_velocity");
   try {
-    if (given(q, "axial_schedule")) tool->axial_schedule = MotionSchedule(pairs(q, "axial_schedule", "s", "m/s"));
+    if (given(q, "axial_schedule")) tool->axial_schedule = PiecewiseLinear(q.pairs("axial_schedule", "s", "m/s"));
   } catch (const std::invalid_argument& e) {
     q.fail("axial_schedule", e.what());
   }
   try {
     if (given(q, "angular_schedule"))
-      tool->angular_schedule = MotionSchedule(pairs(q, "angular_schedule", "s", "rad/s"));
+      tool->angular_schedule = PiecewiseLinear(q.pairs("angular_schedule", "s", "rad/s"));
   } catch (const std::invalid_argument& e) {
     q.fail("angular_schedule", e.what());
   }
