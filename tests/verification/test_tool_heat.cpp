@@ -170,6 +170,36 @@ TEST(ToolHeat, FrictionHeatEndsUpInWorkpieceAndTool) {
   EXPECT_LT(std::abs(err), 1e-9);
   EXPECT_LT(std::abs(err_work), 1e-9);
 
+  // The thermal lists follow the turning die body (their Verlet test watches every particle, the
+  // attached ones included): every disc-die pair closer than 2h - 0.1 dx at the final positions is
+  // listed. Margin 0.1 dx: the positions are one step (<= omega R dt = 0.03 mm) past the last
+  // thermal pass, whose lists were complete up to 2h + skin - 2 x (skin/2) = 2h. Lists built once
+  // and never refreshed would miss nearly all of them after 2 rad.
+  const NeighbourList& nl = sim.thermal_neighbours();
+  ASSERT_EQ(nl.count(), sim.particle_count());
+  const double* x = sim.fields().f64(field::position);
+  const std::int64_t* body_of = sim.fields().i64(field::body);
+  const std::size_t disc_body = body_index(sim, "disc"), die_index = body_index(sim, "die_body");
+  const double h = sim.settings().h_over_dx * 2e-3, reach = 2.0 * h - 0.1 * 2e-3;
+  std::size_t pairs = 0, missing = 0;
+  for (std::size_t i = 0; i < sim.particle_count(); ++i) {
+    if (static_cast<std::size_t>(body_of[i]) != disc_body) continue;
+    for (std::size_t j = 0; j < sim.particle_count(); ++j) {
+      if (static_cast<std::size_t>(body_of[j]) != die_index) continue;
+      const double r = std::sqrt(std::pow(x[3 * i] - x[3 * j], 2) + std::pow(x[3 * i + 1] - x[3 * j + 1], 2) +
+                                 std::pow(x[3 * i + 2] - x[3 * j + 2], 2));
+      if (r >= reach) continue;
+      ++pairs;
+      bool listed = false;
+      for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) listed = listed || *p == j;
+      missing += listed ? 0 : 1;
+    }
+  }
+  std::printf("thermal lists: %zu disc-die pairs within 2h - 0.1 dx, %zu missing; %lld thermal list builds\n", pairs,
+              missing, nl.builds());
+  EXPECT_GT(pairs, 1000u);
+  EXPECT_EQ(missing, 0u);
+
   // Thermocouple: the die particle nearest (10, 0, 5) mm at t = 0.
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(r.out / "summary.json"));
   const nlohmann::json& metrics = summary.at("metrics");

@@ -74,6 +74,9 @@ class Simulation {
   const std::vector<RigidTool>& tools() const { return tools_; }
   const std::vector<BodyRange>& bodies() const { return bodies_; }
   const NeighbourList& neighbours() const { return neighbours_; }
+  /// Lists over all particles (thermal-only ones included) of the last thermal pass; empty when
+  /// every particle is mechanical (the thermal pass then uses neighbours()).
+  const NeighbourList& thermal_neighbours() const { return thermal_neighbours_; }
   const Symmetry& symmetry() const { return symmetry_; }
   /// Ghost particles (images across the symmetry cuts) of the last neighbour-list build.
   std::size_t ghost_count() const { return symmetry_.ghost_count(); }
