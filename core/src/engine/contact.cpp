@@ -217,7 +217,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
 
     double rx = 0.0, ry = 0.0, rz = 0.0, torque = 0.0, power = 0.0, heat = 0.0, gap_sum = 0.0, gap_max = 0.0;
     std::size_t tool_stuck = 0;
-    const bool takes_heat = t < a.tool_takes_heat.size() && a.tool_takes_heat[t] != 0;
+    const bool takes_heat = a.tool_takes_heat && a.tool_takes_heat[t] != 0;
     double to_tool = 0.0;
     const double phi = settings_.heat_to_workpiece, inv_s = 1.0 / a.mass_scaling;
     // Sequential over the contacts (a small fraction of the particles): the tool's sums then

@@ -37,9 +37,9 @@ struct ContactArrays {
   double mass_scaling = 1.0;             ///< inertial / physical mass (eq. 24)
   /// Per tool: its friction law's memory, 3 per particle (field friction_history_<tool>), or null.
   std::vector<double*> history;
-  /// Per tool: 1 when it carries thermal particles that take its share of the friction heat
-  /// (eq. 91); the pass then records that share per contact (PenaltyContact::tool_heat()).
-  std::vector<unsigned char> tool_takes_heat;
+  /// Per tool (null: none does): 1 when it carries thermal particles that take its share of the
+  /// friction heat (eq. 91); the pass then records that share per contact (PenaltyContact::tool_heat()).
+  const unsigned char* tool_takes_heat = nullptr;
 };
 
 /// The tool's share (1 - phi) |f_t| |v_t| of one contact's friction heat (eqs. 18e-18f), for the

@@ -898,7 +898,7 @@ void Simulation::mechanics_rates() {
     ca.force = fc;
     ca.heat_source = heat_source;
     ca.mass_scaling = settings_.mass_scaling;
-    ca.tool_takes_heat = tool_takes_heat_;
+    ca.tool_takes_heat = any_attached_ ? tool_takes_heat_.data() : nullptr;
     ca.history.assign(tools_.size(), nullptr);
     for (std::size_t t = 0; t < tools_.size(); ++t)
       if (tool_laws_[t]->needs_history()) ca.history[t] = fields_.f64("friction_history_" + tools_[t].name());
