@@ -832,3 +832,20 @@ TEST_F(Cli, DefaultOutputFolderNeverReusesAnEarlierRun) {
   EXPECT_TRUE(fs::exists(work() / "runs" / "paste_orifice_quick" / "summary.json"));
   EXPECT_TRUE(fs::exists(work() / "runs" / "paste_orifice_quick-2" / "summary.json"));
 }
+
+// A thermal body attached to a tool (docs/contact.md "Heat into the tools"): a tool name that does
+// not exist, or a mechanical body, is an input error at the body's attached_to.
+TEST_F(CliInput, AttachedBodyNeedsAnExistingToolAndNoMechanics) {
+  const std::string source = std::string(SPHFORGE_SOURCE_DIR) + "/cases/verification/tool_heat_rotating_die.json";
+  const fs::path unknown = root() / "unknown_tool.json", mechanical = root() / "mechanical.json";
+  json doc = read_json(source);
+  doc["process"]["bodies"][1]["attached_to"] = "nosuch";
+  std::ofstream(unknown) << doc.dump(2) << "\n";
+  expect_input_error(run({"check", unknown.string()}), unknown.string(), "/process/bodies/1/attached_to",
+                     {"no tool or plane named 'nosuch'", "die"});
+  doc = read_json(source);
+  doc["process"]["bodies"][1]["mechanics"] = true;
+  std::ofstream(mechanical) << doc.dump(2) << "\n";
+  expect_input_error(run({"check", mechanical.string()}), mechanical.string(), "/process/bodies/1/attached_to",
+                     {"thermal-only"});
+}

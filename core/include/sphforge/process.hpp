@@ -27,8 +27,12 @@ struct BodySpec {
   /// Initial velocity of each particle (m/s); empty: at rest.
   std::vector<Eigen::Vector3d> velocities;
   /// false: thermal-only particles (e.g. a conducting tool). They take part in heat conduction
-  /// but in no mechanics pass, and the core does not move them.
+  /// but in no mechanics pass, and the core does not move them unless they are attached.
   bool mechanics = true;
+  /// Thermal-only bodies: the name of the tool they belong to. The core then places them every
+  /// step from the tool's pose (docs/theory.md eq. 90) and puts the tool's share of the friction
+  /// heat into them (eq. 91). Empty: not attached (the body stays where it is).
+  std::string attached_to;
 };
 
 /// Given to Process::build: the process creates its bodies and tools through it.
@@ -59,6 +63,7 @@ struct BodyRange {
   double spacing_m = 0.0;
   std::size_t material = 0;  ///< index into the scene's materials
   bool mechanics = true;
+  long long attached_tool = -1;  ///< index of the tool a thermal-only body moves with (-1: none)
 };
 
 /// What a process sees of the running simulation.

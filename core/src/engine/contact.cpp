@@ -77,6 +77,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
   normal_.resize(3 * n);
   if (stats_.size() != tools.size()) stats_.assign(tools.size(), ToolContactStats{});
   std::size_t total = 0, stuck = 0;
+  tool_heat_.clear();
   if (n > 0) bin_particles(x, n);
   const std::size_t ncells = cell_near_.size();
   const double half_diagonal = 0.5 * std::sqrt(3.0) * cell_edge_;
@@ -216,6 +217,8 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
 
     double rx = 0.0, ry = 0.0, rz = 0.0, torque = 0.0, power = 0.0, heat = 0.0, gap_sum = 0.0, gap_max = 0.0;
     std::size_t tool_stuck = 0;
+    const bool takes_heat = a.tool_takes_heat && a.tool_takes_heat[t] != 0;
+    double to_tool = 0.0;
     const double phi = settings_.heat_to_workpiece, inv_s = 1.0 / a.mass_scaling;
     // Sequential over the contacts (a small fraction of the particles): the tool's sums then
     // come out in the same order, bit for bit, whatever the thread count.
@@ -241,6 +244,11 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
                        std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
       heat += q;
       if (a.heat_source) a.heat_source[i] += phi * q / (a.mass[i] * inv_s);
+      // The rest, (1 - phi) q, goes to the tool's thermal particles near i (eq. 91), when it has any.
+      if (takes_heat) {
+        tool_heat_.push_back({t, i, (1.0 - phi) * q});
+        to_tool += (1.0 - phi) * q;
+      }
       gap_sum += std::max(batch_gap_[c], 0.0);
       gap_max = std::max(gap_max, batch_gap_[c]);
       tool_stuck += batch_stick_[c] > 0.5 ? 1 : 0;
@@ -254,6 +262,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     st.sticking_fraction = static_cast<double>(tool_stuck) / static_cast<double>(nc);
     st.friction_heat_W = heat;
     st.heat_to_workpiece_W = phi * heat;
+    st.heat_to_tool_W = to_tool;
     stuck += tool_stuck;
     total += nc;
   }

@@ -17,7 +17,8 @@ struct ContactSettings {
   double stiffness_factor = 1.0;  ///< kappa in k = kappa * M * dx (M: P-wave modulus rho0 c^2)
   double damping_ratio = 0.2;     ///< zeta: fraction of critical damping of the particle-spring
   /// Fraction of the friction heat that enters the workpiece particle (eq. 18f); the rest goes
-  /// to the tool, which the core treats as thermally inert (docs/contact.md).
+  /// to the tool: into its attached thermal particles (eq. 91), or out of the model when the
+  /// tool has none (thermally inert, docs/contact.md).
   double heat_to_workpiece = 0.5;
 };
 
@@ -36,6 +37,17 @@ struct ContactArrays {
   double mass_scaling = 1.0;             ///< inertial / physical mass (eq. 24)
   /// Per tool: its friction law's memory, 3 per particle (field friction_history_<tool>), or null.
   std::vector<double*> history;
+  /// Per tool (null: none does): 1 when it carries thermal particles that take its share of the
+  /// friction heat (eq. 91); the pass then records that share per contact (PenaltyContact::tool_heat()).
+  const unsigned char* tool_takes_heat = nullptr;
+};
+
+/// The tool's share (1 - phi) |f_t| |v_t| of one contact's friction heat (eqs. 18e-18f), for the
+/// tool's thermal particles (engine/tool_heat.hpp, eq. 91).
+struct ToolHeatRecord {
+  std::size_t tool = 0;
+  std::size_t particle = 0;  ///< the workpiece particle in contact
+  double heat_W = 0.0;
 };
 
 /// Per-tool contact statistics of the last pass (history.csv columns <tool>_...).
@@ -45,6 +57,7 @@ struct ToolContactStats {
   double sticking_fraction = 0.0;
   double friction_heat_W = 0.0;          ///< sum |f_t| |v_t| (eq. 18e)
   double heat_to_workpiece_W = 0.0;      ///< the workpiece's share of it (eq. 18f)
+  double heat_to_tool_W = 0.0;           ///< the share recorded for the tool's thermal particles (eq. 91)
 };
 
 class PenaltyContact {
@@ -64,6 +77,9 @@ class PenaltyContact {
   /// Fraction of contacts that stuck in the last apply() (0 when none).
   double sticking_fraction() const { return sticking_fraction_; }
   const std::vector<ToolContactStats>& tool_stats() const { return stats_; }
+  /// The tools' shares of the friction heat of the last apply(), one record per contact with a
+  /// tool that takes heat, in contact order (deterministic).
+  const std::vector<ToolHeatRecord>& tool_heat() const { return tool_heat_; }
   /// Memory held by the scratch arrays (bytes).
   std::size_t bytes() const {
     std::size_t total = (distance_.capacity() + normal_.capacity() + near_x_.capacity() + near_distance_.capacity() +
@@ -71,7 +87,7 @@ class PenaltyContact {
                         (particle_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
                          cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
                             sizeof(std::size_t) +
-                        cell_near_.capacity();
+                        cell_near_.capacity() + tool_heat_.capacity() * sizeof(ToolHeatRecord);
     for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vn_, &batch_damping_,
                           &batch_vt_, &batch_acc_, &batch_area_, &batch_yield_, &batch_history_, &batch_ft_,
                           &batch_stick_, &batch_vwall_})
@@ -85,6 +101,7 @@ class PenaltyContact {
   double spacing_ = 0.0, stiffness_ = 0.0;
   double sticking_fraction_ = 0.0;
   std::vector<ToolContactStats> stats_;
+  std::vector<ToolHeatRecord> tool_heat_;
   // Scratch, kept between steps so that the pass does not allocate once warmed up.
   std::vector<double> distance_, normal_;
   std::vector<std::size_t> particle_;

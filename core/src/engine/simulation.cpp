@@ -11,10 +11,12 @@
 #include <numbers>
 
 #include "backend.hpp"
+#include "engine/attached_bodies.hpp"
 #include "engine/body_force.hpp"
 #include "engine/energy.hpp"
 #include "engine/heat_conduction.hpp"
 #include "engine/reorder.hpp"
+#include "engine/tool_heat.hpp"
 #include "engine/xsph.hpp"
 #include "io/output_writers.hpp"
 #include "io/particle_dump.hpp"
@@ -408,6 +410,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   // Bodies: resolve their materials; mechanical bodies first in the arrays (the mechanics passes
   // then run over one contiguous range [0, mechanical_count_)).
   std::vector<std::size_t> body_material(builder.bodies.size());
+  std::vector<long long> body_tool(builder.bodies.size(), -1);
   for (std::size_t b = 0; b < builder.bodies.size(); ++b) {
     const BodySpec& spec = builder.bodies[b];
     auto it = std::find(material_keys_.begin(), material_keys_.end(), spec.material);
@@ -430,6 +433,23 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     if (!spec.mechanics && !settings_.thermal.enabled)
       throw InputError(file, "/process", "body '" + spec.name +
                                              "' is thermal-only, which needs a \"thermal\" section in the case");
+    // A body attached to a tool moves with it (eq. 90) and takes its share of the friction heat (eq. 91).
+    if (!spec.attached_to.empty()) {
+      auto it = std::find_if(tools_.begin(), tools_.end(), [&](const RigidTool& t) { return t.name() == spec.attached_to; });
+      if (it == tools_.end()) {
+        std::string names;
+        for (const auto& t : tools_) names += (names.empty() ? "" : ", ") + t.name();
+        throw InputError(file, "/process", "body '" + spec.name + "' is attached to tool '" + spec.attached_to +
+                                               "', which does not exist (tools: " +
+                                               (names.empty() ? std::string("none") : names) + ")");
+      }
+      if (spec.mechanics)
+        throw InputError(file, "/process", "body '" + spec.name + "' is attached to tool '" + spec.attached_to +
+                                               "' but is mechanical: only thermal-only bodies (mechanics false) "
+                                               "can move with a tool");
+      body_tool[b] = it - tools_.begin();
+      any_attached_ = true;
+    }
   }
 
   const ParamValues contact = root.sub("contact", contact_specs());
@@ -532,6 +552,9 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     passes_.push_back({"convection", {position, mass, density, temperature}, {convection_coefficient}});
     passes_.push_back({"integrate_temperature", {temperature_rate}, {temperature}});
   }
+  // Tool-attached thermal bodies keep their tool-frame positions, moved with them by reordering (eq. 90).
+  if (any_attached_)
+    passes_.push_back({"attached_bodies", {}, {position, FieldInfo{kToolReferencePosition, 3, "m"}}});
   std::vector<FieldInfo> process_fields = process_->fields();
   if (!process_fields.empty()) passes_.push_back({"process:" + process_name, {}, process_fields});
   for (const PassInfo& pass : passes_) {
@@ -561,7 +584,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     for (std::size_t b = 0; b < builder.bodies.size(); ++b) {
       const BodySpec& src = builder.bodies[b];
       if (src.mechanics != mechanics) continue;
-      bodies_[b] = {src.name, next, src.positions.size(), src.spacing_m, body_material[b], src.mechanics};
+      bodies_[b] = {src.name, next, src.positions.size(), src.spacing_m, body_material[b], src.mechanics, body_tool[b]};
       const Material& material = *materials_[body_material[b]];
       // Mass scaling multiplies mass and (inertial) density alike (eq. 24).
       const double rho0 = material.reference_density() * mass_scaling;
@@ -580,6 +603,19 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   }
   for (const auto& b : bodies_)
     if (b.mechanics) materials_[b.material]->initialize(fields_, b.first, b.count);
+  // Attached bodies: tool-frame positions from the tool's initial pose, then placed by eq. 90
+  // (the same positions up to round-off), so that every step places them the same way.
+  tool_takes_heat_.assign(tools_.size(), 0);
+  for (const auto& b : bodies_) {
+    if (b.attached_tool < 0) continue;
+    const RigidTool& tool = tools_[static_cast<std::size_t>(b.attached_tool)];
+    double* ref = fields_.f64(kToolReferencePosition);
+    attach_to_tool(tool, x + 3 * b.first, ref + 3 * b.first, b.count);
+    place_on_tool(tool, ref + 3 * b.first, x + 3 * b.first, b.count);
+    tool_takes_heat_[static_cast<std::size_t>(b.attached_tool)] = 1;
+  }
+  tool_friction_heat_J_.assign(tools_.size(), 0.0);
+  tool_heat_to_tool_J_.assign(tools_.size(), 0.0);
   if (settings_.thermal.enabled) {
     double* T = fields_.f64(field::temperature);
     std::fill(T, T + count_, settings_.thermal.initial_temperature_K);
@@ -802,7 +838,9 @@ void Simulation::mechanics_rates() {
     for (std::size_t i = 0; i < n; ++i) physical_density_[i] = rho[i] * inv_s;
     material_density = physical_density_.data();
   }
-  if (heat_source) std::fill(heat_source, heat_source + n, 0.0);
+  // Every particle's source is rebuilt each step: the materials and the contact fill the mechanical
+  // ones, the tools' share of the friction heat the attached thermal-only ones (eq. 91).
+  if (heat_source) std::fill(heat_source, heat_source + count_, 0.0);
   for (const BodyRange& b : bodies_) {
     if (!b.mechanics) continue;
     MaterialBatch batch;
@@ -860,6 +898,7 @@ void Simulation::mechanics_rates() {
     ca.force = fc;
     ca.heat_source = heat_source;
     ca.mass_scaling = settings_.mass_scaling;
+    ca.tool_takes_heat = any_attached_ ? tool_takes_heat_.data() : nullptr;
     ca.history.assign(tools_.size(), nullptr);
     for (std::size_t t = 0; t < tools_.size(); ++t)
       if (tool_laws_[t]->needs_history()) ca.history[t] = fields_.f64("friction_history_" + tools_[t].name());
@@ -909,6 +948,11 @@ void Simulation::thermal_rates() {
     xe = ext_x_.data();  // filled by mechanics_rates() this step; positions have not moved since
     Te = extend(ext_T_, T, 1);
   }
+  // The tools' share of the friction heat into their attached particles near each contact (eq. 91),
+  // over the thermal lists (every particle's neighbours, just refreshed above).
+  if (any_attached_ && heat_source)
+    deposit_tool_heat(contact_.tool_heat(), *nl, settings_.kernel, h_, x, m, settings_.mass_scaling,
+                      fields_.i64(field::body), bodies_, fields_.f64(field::heat_source));
   std::fill(heat_W_.begin(), heat_W_.end(), 0.0);
   heat_conduction(*nl, settings_.kernel, h_, xe, volume, Te, conductivity_.data(), heat_W_.data(), n);  // eq. 20
   if (any_convection_) {
@@ -921,7 +965,7 @@ void Simulation::thermal_rates() {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double physical_mass = m[i] * inv_s;
-    const double source = heat_source && i < mechanical_count_ ? physical_mass * heat_source[i] : 0.0;
+    const double source = heat_source ? physical_mass * heat_source[i] : 0.0;
     dT[i] = (f * heat_W_[i] + source) / (physical_mass * specific_heat_[i]);
   }
 }
@@ -1029,6 +1073,21 @@ void Simulation::step() {
     tool.work_J += tool.power_W * dt_;
     tool.advance(dt_);
   }
+  // Attached thermal bodies follow their tool's new pose exactly (eq. 90).
+  if (any_attached_) {
+    double* x = fields_.f64(field::position);
+    const double* ref = fields_.f64(kToolReferencePosition);
+    for (const BodyRange& b : bodies_)
+      if (b.attached_tool >= 0)
+        place_on_tool(tools_[static_cast<std::size_t>(b.attached_tool)], ref + 3 * b.first, x + 3 * b.first, b.count);
+  }
+  // Friction heat of each tool and the share its thermal particles took, summed over the steps:
+  // the ledger the heat content of the bodies is checked against (docs/verification.md section 13).
+  const auto& contact_stats = contact_.tool_stats();
+  for (std::size_t t = 0; t < tools_.size() && t < contact_stats.size(); ++t) {
+    tool_friction_heat_J_[t] += contact_stats[t].friction_heat_W * dt_;
+    tool_heat_to_tool_J_[t] += contact_stats[t].heat_to_tool_W * dt_;
+  }
   time_ += dt_;
   ++step_;
   ctx.time_s = time_;
@@ -1065,6 +1124,13 @@ std::vector<std::string> Simulation::history_header() const {
     h.push_back(t.name() + "_friction_heat_W");
     h.push_back(t.name() + "_heat_to_workpiece_W");
   }
+  if (settings_.thermal.enabled)
+    for (std::size_t k = 0; k < tools_.size(); ++k) {
+      h.push_back(tools_[k].name() + "_friction_heat_J");
+      if (!tool_takes_heat_[k]) continue;
+      h.push_back(tools_[k].name() + "_heat_to_tool_W");
+      h.push_back(tools_[k].name() + "_heat_to_tool_J");
+    }
   for (const auto& t : tools_) {
     h.push_back(t.name() + "_position_m");
     h.push_back(t.name() + "_angle_rad");
@@ -1114,6 +1180,13 @@ std::vector<double> Simulation::history_row() const {
     r.push_back(st.friction_heat_W);
     r.push_back(st.heat_to_workpiece_W);
   }
+  if (settings_.thermal.enabled)
+    for (std::size_t k = 0; k < tools_.size(); ++k) {
+      r.push_back(tool_friction_heat_J_[k]);
+      if (!tool_takes_heat_[k]) continue;
+      r.push_back(k < stats.size() ? stats[k].heat_to_tool_W : 0.0);
+      r.push_back(tool_heat_to_tool_J_[k]);
+    }
   for (const auto& t : tools_) {
     r.push_back(t.axial_offset_m);
     r.push_back(t.angle_rad);

@@ -72,7 +72,11 @@ class Simulation {
   const FieldRegistry& fields() const { return fields_; }
   const std::vector<PassInfo>& passes() const { return passes_; }
   const std::vector<RigidTool>& tools() const { return tools_; }
+  const std::vector<BodyRange>& bodies() const { return bodies_; }
   const NeighbourList& neighbours() const { return neighbours_; }
+  /// Lists over all particles (thermal-only ones included) of the last thermal pass; empty when
+  /// every particle is mechanical (the thermal pass then uses neighbours()).
+  const NeighbourList& thermal_neighbours() const { return thermal_neighbours_; }
   const Symmetry& symmetry() const { return symmetry_; }
   /// Ghost particles (images across the symmetry cuts) of the last neighbour-list build.
   std::size_t ghost_count() const { return symmetry_.ghost_count(); }
@@ -139,6 +143,11 @@ class Simulation {
   std::vector<double> xsph_scratch_;
   double internal_energy_ = 0.0, dt_thermal_ = 0.0;
   bool any_convection_ = false;
+  // Thermal-only bodies attached to tools (eqs. 90-91): whether any is, which tools take their
+  // share of the friction heat, and per tool the friction heat and that share summed over steps (J).
+  bool any_attached_ = false;
+  std::vector<unsigned char> tool_takes_heat_;
+  std::vector<double> tool_friction_heat_J_, tool_heat_to_tool_J_;
   bool thermal_lists_stale_ = false;  ///< a reorder permuted the particles behind the thermal lists
   double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;

@@ -55,7 +55,10 @@ const ParamSpecs& body_specs() {
       ParamSpec::number("inner_radius", "m", 0.0, "tube inner radius", 0.0),
       ParamSpec::number("height", "m", 0.0, "cylinder/tube height, disc thickness (along z)", 0.0),
       ParamSpec::string("material", std::string(), "key in the case's \"materials\" (empty: \"material\")"),
-      ParamSpec::boolean("mechanics", true, "false: thermal-only particles (conduction only, never move)"),
+      ParamSpec::boolean("mechanics", true, "false: thermal-only particles (conduction only; move only when attached)"),
+      ParamSpec::string("attached_to", std::string(),
+                        "thermal-only bodies: name of the tool or plane they belong to; they move rigidly with it "
+                        "and take its share of the friction heat (docs/contact.md, theory eqs. 90-91)"),
       ParamSpec::array("velocity", "initial velocity [vx, vy, vz] (m/s)"),
       ParamSpec::array("angular_velocity", "initial rigid rotation [wx, wy, wz] (rad/s) about `center`"),
       ParamSpec::object("velocity_profile",
@@ -212,6 +215,7 @@ const ParamSpecs& probe_specs() {
   static const ParamSpecs specs = {
       ParamSpec::string("name", std::nullopt, "probe name (history column prefix)"),
       ParamSpec::array("point", "the particle nearest this point [x, y, z] (m) at t = 0 is followed", true),
+      ParamSpec::string("body", std::string(), "only particles of this body are candidates (empty: any body)"),
       ParamSpec::string("quantity", std::nullopt, "what to record",
                         {"displacement_x", "displacement_y", "displacement_z", "velocity_x", "velocity_y",
                          "velocity_z", "pressure", "stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz",
@@ -237,6 +241,7 @@ struct Probe {
   std::string name, quantity;
   Vec point;
   std::int64_t id = -1;
+  long long body = -1;  // -1: the nearest particle of any body
   std::size_t index = 0;
   Vec initial_position = Vec::Zero();
   double value = 0.0;
@@ -288,9 +293,30 @@ class Generic final : public Process {
         probe.name = q.string("name");
         probe.quantity = q.string("quantity");
         probe.point = vector3(q, "point", "m");
+        const std::string body = q.string("body");
+        if (!body.empty()) {
+          auto it = std::find_if(bodies_.begin(), bodies_.end(), [&](const ParamValues& b) { return b.string("name") == body; });
+          if (it == bodies_.end()) q.fail("body", "no body named '" + body + "'");
+          probe.body = it - bodies_.begin();
+        }
         probes_.push_back(probe);
       }
     period_start_ = p.number("period_start");
+    // Attached bodies (eq. 90): a thermal-only body that names an existing tool or plane.
+    for (const ParamValues& b : bodies_) {
+      const std::string tool = b.string("attached_to");
+      if (tool.empty()) continue;
+      bool exists = std::find(tool_names_.begin(), tool_names_.end(), tool) != tool_names_.end();
+      std::string names;
+      for (const ParamValues& plane : plane_values_) {
+        exists = exists || plane.string("name") == tool;
+        names += (names.empty() ? "" : ", ") + plane.string("name");
+      }
+      for (const std::string& t : tool_names_) names += (names.empty() ? "" : ", ") + t;
+      if (!exists)
+        b.fail("attached_to", "no tool or plane named '" + tool + "' (" + (names.empty() ? std::string("none") : names) + ")");
+      if (b.boolean("mechanics")) b.fail("attached_to", "only a thermal-only body (\"mechanics\": false) can be attached to a tool");
+    }
   }
 
   std::vector<FieldInfo> fields() const override { return {}; }
@@ -304,6 +330,7 @@ class Generic final : public Process {
       spec.spacing_m = spacing_;
       spec.material = b.string("material");
       spec.mechanics = b.boolean("mechanics");
+      spec.attached_to = b.string("attached_to");
       spec.positions = lattice(b);
       if (spec.positions.empty()) b.fail("shape", "the body holds no particle at this spacing");
       // Jitter: each particle displaced by up to `jitter` spacings per axis (fixed seed).
@@ -410,6 +437,7 @@ class Generic final : public Process {
     for (Probe& p : probes_) {
       double best = std::numeric_limits<double>::infinity();
       for (std::size_t i = 0; i < n; ++i) {
+        if (p.body >= 0 && body[i] != p.body) continue;
         const double d2 = (Vec(x[3 * i], x[3 * i + 1], x[3 * i + 2]) - p.point).squaredNorm();
         if (d2 < best) {
           best = d2;
