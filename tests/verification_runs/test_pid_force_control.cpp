@@ -11,54 +11,32 @@
 //   8,000 particles, 129 s): the SPH block is stiffer, by a boundary layer at the loaded faces (the
 //   first particle layer carries 0.61 of the mean stress, the strain between the first two layers is
 //   0.64 of E^-1 sigma; the interior strain is within 3.5 %), converging with about first order. The
-//   3 % is NOT met at a CI-sized resolution; the bound below, 10 %, is a regression bound around the
-//   measured -8.6 %, not the criterion.
+//   3 % is NOT met by this cube; the bound below, 10 %, is a regression bound around the measured -8.6 %,
+//   not the criterion. The layer is a fixed number of particle layers, so its relative size
+//   falls as dx/L: the slender block (L/dx = 40) of tests/validation_runs/test_pid_force_slender.cpp
+//   checks the 3 % (-2.8 % measured, ~10 min on one thread, not in CI).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
-#include "run_helpers.hpp"
+#include "pid_block.hpp"
 
 namespace {
 
 using namespace sphforge_verification;
 
 TEST(PidForceControl, PunchSettlesAtTheTargetForceOnAnElasticBlock) {
-  const RunResult r = run_case("pid_force_block.json", "pid_force_block", {});
-  ASSERT_EQ(r.code, 0) << r.err;
-  const History h = read_history(r.out / "history.csv");
-  const auto& t = h["time_s"];
-  const auto& force = h["punch_force_z_N"];
-  const auto& top = h["top_displacement_z_m"];
-  const auto& bottom = h["bottom_displacement_z_m"];
-  const auto& command = h["force_command_m_s"];
-  constexpr double kTarget = 1.0, kE = 1e6, kArea = 1e-4, kLength = 10e-3, kSpacing = 1e-3;
-
-  double abs_error = 0.0, mean_force = 0.0, shortening = 0.0;
-  int rows = 0;
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    if (t[k] < 15e-3) continue;
-    abs_error += std::abs(force[k] - kTarget);
-    mean_force += force[k];
-    shortening += bottom[k] - top[k];
-    ++rows;
-  }
-  ASSERT_GT(rows, 100);
-  abs_error /= rows * kTarget;
-  mean_force /= rows;
-  shortening /= rows;
-  const double predicted = mean_force * (kLength - kSpacing) / (kE * kArea);
-  const double shortening_error = shortening / predicted - 1.0;
-  const std::string line = "pid_force_block: mean |F - target| after settling " + std::to_string(100.0 * abs_error) +
-                           " % of the target; shortening " + std::to_string(shortening) + " m vs F (L - dx)/(E A) " +
-                           std::to_string(predicted) + " m: " + std::to_string(100.0 * shortening_error) + " %";
-  std::printf("%s\n", line.c_str());
-  record("verification_results.txt", line + "\n");
-
-  EXPECT_LT(abs_error, 0.01);                    // the 1 %
-  EXPECT_LT(std::abs(shortening_error), 0.10);  // regression bound (see the header): the 3 % is not met
-  EXPECT_GT(std::abs(command[1]), 0.0);         // the controller did drive the punch
+  const RunResult run = run_case("pid_force_block.json", "pid_force_block", {});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const PidBlockResult r = analyse_pid_block(run.out, "pid_force_block", 1.0, 1e6, 1e-4, 10e-3, 1e-3, 15e-3);
+  ASSERT_GT(r.rows, 100);
+  std::printf("%s\n", r.line.c_str());
+  record("verification_results.txt", r.line + "\n");
+  EXPECT_LT(r.mean_abs_force_error, 0.01);           // the 1 %
+  EXPECT_LT(std::abs(r.shortening_error), 0.10);     // regression bound (see the header): the 3 % is checked on
+                                                     // the slender block (tests/validation_runs/)
+  EXPECT_GT(std::abs(read_history(run.out / "history.csv")["force_command_m_s"][1]), 0.0);  // the punch was driven
 }
 
 }  // namespace
