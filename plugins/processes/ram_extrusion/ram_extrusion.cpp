@@ -216,21 +216,46 @@ class RamExtrusion final : public Process {
   }
 
   // Lattice points of the material already in the die cavity (the dry-ice paper's residual
-  // compressed material): the billet's cubic lattice continued below z = 0, kept dx/2 inside the
-  // die wall (the contact distance, as for the billet at the barrel) and above the exit.
+  // compressed material): the billet's lattice (cubic or rings) continued below z = 0, kept dx/2
+  // inside the die wall (the contact distance, as for the billet at the barrel) and above the exit.
   void append_die_fill(std::vector<Eigen::Vector3d>& points) const {
     const ToolProfile wall = die_.profile(barrel_radius_);
     const int nr = static_cast<int>(std::ceil(barrel_radius_ / spacing_));
     const int kmin = static_cast<int>(std::floor(die_.exit_z / spacing_));
     Eigen::Vector2d normal;
+    auto inside = [&](double r, double z) { return wall.signed_distance({r, z}, normal) >= 0.5 * spacing_ * (1.0 - 1e-9); };
     for (int k = kmin; k < 0; ++k) {
       const double z = (k + 0.5) * spacing_;
       if (z < die_.exit_z + 0.5 * spacing_ * (1.0 - 1e-9)) continue;
+      if (rings_) {
+        // Polar rings as the billet's (see build()): the outer ring at the largest radius r_o that
+        // is dx/2 from the wall (bisection: inside the converging wall the distance falls with r),
+        // so that it touches the die wall as the billet's outer ring touches the barrel.
+        if (!inside(0.0, z)) continue;
+        double lo = 0.0, hi = barrel_radius_;
+        for (int it = 0; it < 60; ++it) (inside(0.5 * (lo + hi), z) ? lo : hi) = 0.5 * (lo + hi);
+        for (int q = 0;; ++q) {
+          const double r = lo - q * spacing_;
+          if (r < 0.25 * spacing_) {
+            points.emplace_back(0.0, 0.0, z);
+            break;
+          }
+          const double circumference = 2.0 * std::numbers::pi * (q == 0 ? lo + 0.5 * spacing_ : r);
+          const int count = std::max(1, static_cast<int>(std::lround(circumference / spacing_)));
+          const double phase = 0.5 * ((q + k + 2 * std::abs(kmin)) % 2);  // staggered rings and layers
+          for (int a = 0; a < count; ++a) {
+            const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
+            points.emplace_back(r * std::cos(angle), r * std::sin(angle), z);
+          }
+          if (r < 0.75 * spacing_) break;  // the next ring would sit on the axis side of the centre
+        }
+        continue;
+      }
       for (int j = -nr; j < nr; ++j)
         for (int i = -nr; i < nr; ++i) {
           const Eigen::Vector3d x((i + 0.5) * spacing_, (j + 0.5) * spacing_, z);
           const double r = std::hypot(x.x(), x.y());
-          if (r < barrel_radius_ && wall.signed_distance({r, z}, normal) >= 0.5 * spacing_ * (1.0 - 1e-9)) points.push_back(x);
+          if (r < barrel_radius_ && inside(r, z)) points.push_back(x);
         }
     }
   }
