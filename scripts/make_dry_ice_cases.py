@@ -10,12 +10,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 REF = os.path.join(ROOT, "cases", "ram_extrusion", "reference", "dry_ice_dies.csv")
 OUT = os.path.join(ROOT, "cases", "ram_extrusion", "dry_ice")
 DIE_HEIGHT_MM = 80.0  # overall height H of the die (converging section + cylindrical land)
+# Compacted billet in the barrel at the onset of extrusion: the 80 mm barrel of loose snow
+# (550 kg/m^3, the paper) compacted to 1625 kg/m^3: 80 * 550 / 1625 = 27.1 mm (README.md).
 
 # Resolution and run length of the two variants (README.md in OUT explains the choice).
 VARIANTS = {
-    "": dict(spacing="2 mm", billet="82 mm", stroke="80 mm", end="16 s", mass_scaling=1e4, time_scaling=1.0,
-             output="1 s", history="0.01 s"),
-    "_quick": dict(spacing="4 mm", billet="24 mm", stroke="6 mm", end="1.2 s", mass_scaling=1e4, time_scaling=1.0,
+    "": dict(spacing="2 mm", billet="27.1 mm", stroke="20 mm", end="4 s", mass_scaling=1e4, time_scaling=1.0,
+             output="0.5 s", history="0.01 s"),
+    "_quick": dict(spacing="4 mm", billet="27.1 mm", stroke="6 mm", end="1.2 s", mass_scaling=1e4, time_scaling=1.0,
                    output="0.3 s", history="0.01 s"),
 }
 
