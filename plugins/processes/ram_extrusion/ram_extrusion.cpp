@@ -173,7 +173,7 @@ class RamExtrusion final : public Process {
     std::string blame = "die_family";
     try {
       if (family == "square") {
-        blame = "entry_fillet_radius";
+        blame = "die_diameter";
         die_ = re::square_die(barrel_radius_, die_radius_, land_length_, fillet_);
       } else if (family == "conical" || family == "CS") {
         blame = "entry_angle";
