@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 
+#include "die_geometry.hpp"
 #include "sphforge/plugin.hpp"
 
 namespace {
@@ -29,12 +30,12 @@ class RamExtrusion final : public Process {
     window_start_ = p.number("steady_window_start");
     rings_ = p.string("billet_lattice") == "rings";
     with_die_ = p.boolean("die");
-    if (with_die_ && die_radius_ + fillet_ >= barrel_radius_)
-      p.fail("die_diameter", "die radius plus entry fillet must be smaller than the barrel radius");
+    fill_die_ = p.boolean("fill_die");
     if (ram_radius_ > barrel_radius_) p.fail("ram_diameter", "the ram must fit in the barrel");
+    if (with_die_) make_die(p);
     if (spacing_ * 4 > billet_height_ || (with_die_ && spacing_ * 2 > die_radius_ * 2 + 1e-12))
       p.fail("particle_spacing", "too coarse: need at least 4 particles over the billet height and 2 across the die");
-    exit_z_ = with_die_ ? -std::max(land_length_, fillet_) : 0.0;
+    exit_z_ = with_die_ ? die_.exit_z : 0.0;
   }
 
   void build(SceneBuilder& scene) override {
@@ -75,6 +76,7 @@ class RamExtrusion final : public Process {
             if (std::hypot(x.x(), x.y()) <= rmax) points.push_back(x);
           }
     }
+    if (with_die_ && fill_die_) append_die_fill(points);
     scene.add_body("billet", points, spacing_);
     ram_top_start_ = nz * spacing_;
 
@@ -87,13 +89,10 @@ class RamExtrusion final : public Process {
       ram_ = scene.add_tool(std::move(ram));
       return;
     }
-    // Die: in along its underside (so that extrudate swelling below the exit is outside the die,
-    // not behind an open edge), up the land, round the entry fillet, out along the face.
-    // The entry corner (r = die radius, z = 0) is rounded by an exact tangent arc of the fillet
-    // radius (docs/theory.md eq. 41), centred at (die radius + fillet, -fillet).
-    ToolProfile die({{barrel_radius_, exit_z_}, {die_radius_, exit_z_}, {die_radius_, 0.0}, {barrel_radius_, 0.0}});
-    if (fillet_ > 0.0) die = die.with_fillets(fillet_, {2});
-    die_ = scene.add_tool(RigidTool("die", die));
+    // Die: the family's wall (die_geometry.hpp, docs/theory.md eqs. 80-86), walked in along its
+    // underside (so that extrudate swelling below the exit is outside the die, not behind an open
+    // edge), up the land and the entry to the barrel wall; its arcs are exact (eq. 41).
+    die_tool_ = scene.add_tool(RigidTool("die", die_.profile(barrel_radius_)));
     // Ram face, walked inwards (material below), moved to the billet top.
     RigidTool ram("ram", {{ram_radius_, 0.0}, {0.0, 0.0}});
     ram.axial_offset_m = ram_top_start_;
@@ -166,10 +165,107 @@ class RamExtrusion final : public Process {
   }
 
  private:
+  // Die from the case's family parameters (docs/processes/ram_extrusion.md "Dies"); geometry
+  // errors become input errors at the parameter that caused them.
+  void make_die(const ParamValues& p) {
+    namespace re = ram_extrusion;
+    const std::string family = p.string("die_family");
+    std::string blame = "die_family";
+    try {
+      if (family == "square") {
+        blame = "die_diameter";
+        die_ = re::square_die(barrel_radius_, die_radius_, land_length_, fillet_);
+      } else if (family == "conical" || family == "CS") {
+        blame = "entry_angle";
+        // CS: the dry-ice conical dies, whose cone reaches the barrel wall (insert height ignored).
+        die_ = re::conical_die(barrel_radius_, die_radius_, p.number("entry_angle"),
+                               family == "CS" ? 0.0 : p.number("insert_height"), land_length_, fillet_);
+      } else if (family == "WK" || family == "WP" || family == "WKWP") {
+        const re::ArcSection convex{p.number("arc_radius_1"), p.number("arc_length_1"),
+                                    re::bulge_from_string(p.string("convex_bulge"))};
+        const re::ArcSection concave{p.number("arc_radius_2"), p.number("arc_length_2"),
+                                     re::bulge_from_string(p.string("concave_bulge"))};
+        blame = family == "WP" ? "arc_radius_2" : "arc_radius_1";
+        if (family != "WP" && !(convex.radius > 0.0 && convex.length > 0.0))
+          p.fail("arc_radius_1", family + " die needs arc_radius_1 and arc_length_1 > 0");
+        if (family != "WK" && !(concave.radius > 0.0 && concave.length > 0.0))
+          p.fail("arc_radius_2", family + " die needs arc_radius_2 and arc_length_2 > 0");
+        std::vector<re::ArcSection> sections;
+        if (family != "WP") sections.push_back(convex);
+        if (family != "WK") sections.push_back(concave);
+        die_ = re::spherical_die(barrel_radius_, die_radius_, sections, land_length_);
+      } else {  // profile
+        blame = "die_profile";
+        if (!p.has("die_profile") || !p.raw("die_profile").is_array())
+          p.fail("die_profile", "die_family 'profile' needs die_profile: [{\"r\": ..., \"z\": ..., \"fillet\": ...}, ...]");
+        const ParamSpecs point{ParamSpec::number("r", "m", std::nullopt, "radius of the wall point", 0.0),
+                               ParamSpec::number("z", "m", std::nullopt, "height of the wall point (die entry z = 0)"),
+                               ParamSpec::number("fillet", "m", 0.0, "radius of the arc rounding this corner", 0.0)};
+        std::vector<re::WallVertex> wall;
+        for (std::size_t i = 0; i < p.raw("die_profile").size(); ++i) {
+          const ParamValues v = p.element("die_profile", i, point);
+          wall.push_back({{v.number("r"), v.number("z")}, v.number("fillet")});
+        }
+        die_ = re::profile_die(std::move(wall));
+        die_radius_ = die_.exit_radius;
+      }
+      (void)die_.profile(barrel_radius_);  // fillets that do not fit throw here, not in build()
+    } catch (const std::invalid_argument& e) {
+      p.fail(blame, e.what());
+    }
+  }
+
+  // Lattice points of the material already in the die cavity (the dry-ice paper's residual
+  // compressed material): the billet's lattice (cubic or rings) continued below z = 0, kept dx/2
+  // inside the die wall (the contact distance, as for the billet at the barrel) and above the exit.
+  void append_die_fill(std::vector<Eigen::Vector3d>& points) const {
+    const ToolProfile wall = die_.profile(barrel_radius_);
+    const int nr = static_cast<int>(std::ceil(barrel_radius_ / spacing_));
+    const int kmin = static_cast<int>(std::floor(die_.exit_z / spacing_));
+    Eigen::Vector2d normal;
+    auto inside = [&](double r, double z) { return wall.signed_distance({r, z}, normal) >= 0.5 * spacing_ * (1.0 - 1e-9); };
+    for (int k = kmin; k < 0; ++k) {
+      const double z = (k + 0.5) * spacing_;
+      if (z < die_.exit_z + 0.5 * spacing_ * (1.0 - 1e-9)) continue;
+      if (rings_) {
+        // Polar rings as the billet's (see build()): the outer ring at the largest radius r_o that
+        // is dx/2 from the wall (bisection: inside the converging wall the distance falls with r),
+        // so that it touches the die wall as the billet's outer ring touches the barrel.
+        if (!inside(0.0, z)) continue;
+        double lo = 0.0, hi = barrel_radius_;
+        for (int it = 0; it < 60; ++it) (inside(0.5 * (lo + hi), z) ? lo : hi) = 0.5 * (lo + hi);
+        for (int q = 0;; ++q) {
+          const double r = lo - q * spacing_;
+          if (r < 0.25 * spacing_) {
+            points.emplace_back(0.0, 0.0, z);
+            break;
+          }
+          const double circumference = 2.0 * std::numbers::pi * (q == 0 ? lo + 0.5 * spacing_ : r);
+          const int count = std::max(1, static_cast<int>(std::lround(circumference / spacing_)));
+          const double phase = 0.5 * ((q + k + 2 * std::abs(kmin)) % 2);  // staggered rings and layers
+          for (int a = 0; a < count; ++a) {
+            const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
+            points.emplace_back(r * std::cos(angle), r * std::sin(angle), z);
+          }
+          if (r < 0.75 * spacing_) break;  // the next ring would sit on the axis side of the centre
+        }
+        continue;
+      }
+      for (int j = -nr; j < nr; ++j)
+        for (int i = -nr; i < nr; ++i) {
+          const Eigen::Vector3d x((i + 0.5) * spacing_, (j + 0.5) * spacing_, z);
+          const double r = std::hypot(x.x(), x.y());
+          if (r < barrel_radius_ && inside(r, z)) points.push_back(x);
+        }
+    }
+  }
+
   double barrel_radius_, ram_radius_, billet_height_, die_radius_, land_length_, fillet_, spacing_, stroke_;
   double window_start_, exit_z_, ram_top_start_ = 0.0;
   bool rings_ = false, with_die_ = true;
-  std::size_t barrel_ = 0, die_ = 0, ram_ = 0;
+  std::size_t barrel_ = 0, die_tool_ = 0, ram_ = 0;
+  bool fill_die_ = false;
+  ram_extrusion::DieShape die_;
   double ram_velocity_ = 0.0, ram_force_ = 0.0, ram_displacement_ = 0.0, pressure_ = 0.0;
   double extrudate_length_ = 0.0, extruded_ = 0.0, peak_pressure_ = 0.0;
   double window_sum_ = 0.0, window_sum2_ = 0.0, window_time_ = 0.0;
@@ -178,7 +274,8 @@ class RamExtrusion final : public Process {
 const PluginDescriptor& descriptor() {
   static const PluginDescriptor d = make_plugin_descriptor<RamExtrusion>(
       "ram_extrusion", "0.1.0",
-      "billet in a barrel pushed by a ram through a square-entry die with a filleted corner and a land",
+      "billet in a barrel pushed by a ram through a die (square or conical entry, dry-ice CS/WK/WP/WKWP, or a "
+      "general profile) and its land",
       {
         ParamSpec::number("barrel_diameter", "m", 25e-3, "barrel inner diameter D0", 1e-6),
         ParamSpec::number("ram_diameter", "m", 24.93e-3, "ram diameter", 1e-6),
@@ -195,6 +292,31 @@ const PluginDescriptor& descriptor() {
                           "barrel wall (wall laws such as navier_slip)",
                           {"cubic", "rings"}),
         ParamSpec::boolean("die", true, "false: no die, the barrel is open at z = 0 (plug flow through the barrel)"),
+        ParamSpec::string("die_family", std::string("square"),
+                          "die shape (docs/processes/ram_extrusion.md, Dies): square entry, conical entry, the dry-ice "
+                          "CS (cone to the barrel wall), WK (arc 1), WP (arc 2), WKWP (arc 1 then arc 2), or a general "
+                          "profile",
+                          {"square", "conical", "CS", "WK", "WP", "WKWP", "profile"}),
+        ParamSpec::number("entry_angle", "rad", std::numbers::pi / 4,
+                          "conical / CS: cone half-angle to the axis, e.g. \"45 deg\"", 1e-6, std::numbers::pi / 2),
+        ParamSpec::number("insert_height", "m", 0.0,
+                          "conical: axial height of the cone (0: the cone reaches the barrel wall)", 0.0),
+        ParamSpec::number("arc_radius_1", "m", 0.0, "WK / WKWP: radius R1 of the convex spherical section", 0.0),
+        ParamSpec::number("arc_length_1", "m", 0.0, "WK / WKWP: axial length h1 of the convex section", 0.0),
+        ParamSpec::number("arc_radius_2", "m", 0.0, "WP / WKWP: radius R2 of the concave spherical section", 0.0),
+        ParamSpec::number("arc_length_2", "m", 0.0, "WP / WKWP: axial length h2 of the concave section", 0.0),
+        ParamSpec::string("convex_bulge", std::string("outward"),
+                          "side of its chord the convex (WK) arc lies on: outward (away from the axis; tangent to the "
+                          "barrel at the entry) or inward",
+                          {"outward", "inward"}),
+        ParamSpec::string("concave_bulge", std::string("inward"),
+                          "side of its chord the concave (WP) arc lies on: inward (towards the axis; tangent to the "
+                          "land at the exit) or outward",
+                          {"outward", "inward"}),
+        ParamSpec::array("die_profile", "profile: die wall from the entry (z = 0) down to the exit, "
+                                        "[{\"r\": \"14 mm\", \"z\": \"0 mm\", \"fillet\": \"2 mm\"}, ...]"),
+        ParamSpec::boolean("fill_die", false,
+                           "true: the material also fills the die cavity below z = 0 at the start (dry-ice cases)"),
     });
   return d;
 }

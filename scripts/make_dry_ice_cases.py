@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""Writes cases/ram_extrusion/dry_ice/dry_ice_<die>[_quick].json for the 13 dies of
+cases/ram_extrusion/reference/dry_ice_dies.csv (one material and contact set for all dies: no
+per-die tuning). Run from the repository root: python3 scripts/make_dry_ice_cases.py"""
+import csv
+import json
+import os
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REF = os.path.join(ROOT, "cases", "ram_extrusion", "reference", "dry_ice_dies.csv")
+OUT = os.path.join(ROOT, "cases", "ram_extrusion", "dry_ice")
+DIE_HEIGHT_MM = 80.0  # overall height H of the die (converging section + cylindrical land)
+# Compacted billet in the barrel at the onset of extrusion: the 80 mm barrel of loose snow
+# (550 kg/m^3, the paper) compacted to 1625 kg/m^3: 80 * 550 / 1625 = 27.1 mm (README.md).
+
+# Resolution and run length of the two variants (README.md in OUT explains the choice).
+VARIANTS = {
+    "": dict(spacing="2 mm", billet="27.1 mm", stroke="20 mm", end="4 s", mass_scaling=1e4, time_scaling=1.0,
+             output="0.5 s", history="0.01 s"),
+    "_quick": dict(spacing="4 mm", billet="27.1 mm", stroke="6 mm", end="1.2 s", mass_scaling=1e4, time_scaling=1.0,
+                   output="0.3 s", history="0.01 s"),
+}
+
+
+def die_params(row):
+    fam = row["family"]
+    if fam == "CS":
+        h = float(row["cone_length_mm"])
+        return {"die_family": "CS", "entry_angle": f'{row["taper_angle_deg"]} deg'}, h
+    p = {"die_family": fam}
+    h = 0.0
+    if row["R1_mm"]:
+        p["arc_radius_1"] = f'{row["R1_mm"]} mm'
+        p["arc_length_1"] = f'{row["h1_mm"]} mm'
+        h += float(row["h1_mm"])
+    if row["R2_mm"]:
+        p["arc_radius_2"] = f'{row["R2_mm"]} mm'
+        p["arc_length_2"] = f'{row["h2_mm"]} mm'
+        h += float(row["h2_mm"])
+    return p, h
+
+
+def main():
+    with open(REF, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for row in rows:
+        die = row["die"]
+        dp, h = die_params(row)
+        land = DIE_HEIGHT_MM - h
+        for suffix, v in VARIANTS.items():
+            name = f"dry_ice_{die}{suffix}"
+            case = {
+                "case": {
+                    "name": name,
+                    "description": (
+                        f"Dry ice extruded through die {die} ({row['family']} family, dry_ice_dies.csv), "
+                        "ram 5 mm/s; F_L = the peak ram force (history ram_force_N). "
+                        + ("Coarse and short (CI): the force peak at the onset of extrusion only. " if suffix else "")
+                        + "Parameters, sources and assumptions: README.md in this folder."),
+                },
+                "process": {
+                    "plugin": "ram_extrusion",
+                    "barrel_diameter": "28 mm",
+                    "ram_diameter": "27.5 mm",
+                    "billet_height": v["billet"],
+                    "die_diameter": "16 mm",
+                    **dp,
+                    "land_length": f"{land:.2f} mm",
+                    "entry_fillet_radius": "0 mm",
+                    "fill_die": True,
+                    "billet_lattice": "rings",
+                    "particle_spacing": v["spacing"],
+                    "stroke": v["stroke"],
+                },
+                "material": {
+                    "plugin": "elastoplastic",
+                    "density": "1625 kg/m^3",
+                    "youngs_modulus": "881 MPa",
+                    "poisson_ratio": 0.46,
+                    "yield_stress": "3.5 MPa",
+                },
+                "contact": {"law": {"plugin": "coulomb", "friction_coefficient": 0.1}},
+                "controllers": [{"plugin": "prescribed", "command": "ram_velocity", "value": "5 mm/s"}],
+                "numerics": {"kernel": "cubic_spline", "h_over_dx": 1.3, "cfl": 0.3,
+                             "mass_scaling": v["mass_scaling"]},
+                "run": {"end_time": v["end"], "output_interval": v["output"], "history_interval": v["history"]},
+            }
+            with open(os.path.join(OUT, name + ".json"), "w") as f:
+                json.dump(case, f, indent=2)
+                f.write("\n")
+
+
+if __name__ == "__main__":
+    main()
