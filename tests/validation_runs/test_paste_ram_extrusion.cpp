@@ -48,10 +48,12 @@ TEST(PasteRamExtrusionValidation, SmoothOrificeHorrobinNedderman) {
   EXPECT_GT(p_ex, ideal) << text;             // a lower bound: no tolerance
 }
 
-// 2. Navier-slip lands: the slope of P_ex against L/D (least squares through L/D = 0, 10/3, 28/3,
-//    52/3) within 3 % of 4 tau_w(V_ex) (eq. 77).
+// 2. Navier-slip lands: the slope of P_ex against L/D (least squares through L/D = 0, 10/3, 28/3)
+//    within 3 % of 4 tau_w(V_ex) (eq. 77). L/D = 52/3 is left out: its land fills only at 0.8 mm of
+//    ram travel, and the core's domain stops every paste run at about 0.9 mm (the extrudate tip
+//    leaves it; cases/ram_extrusion/README.md), so it has no steady window.
 TEST(PasteRamExtrusionValidation, NavierLandSlope) {
-  const double ld[] = {0.0, 10.0 / 3.0, 28.0 / 3.0, 52.0 / 3.0};
+  const double ld[] = {0.0, 10.0 / 3.0, 28.0 / 3.0};
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   std::string rows;
   for (double x : ld) {
@@ -65,7 +67,7 @@ TEST(PasteRamExtrusionValidation, NavierLandSlope) {
     rows += row;
     sx += x, sy += p, sxx += x * x, sxy += x * p;
   }
-  const double n = 4.0, slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  const double n = 3.0, slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
   const double v_ex = 1e-3 * (kD0 / kD) * (kD0 / kD), target = 4.0 * tau_w(v_ex);
   char text[200];
   std::snprintf(text, sizeof text, "paste lands: slope dP_ex/d(L/D) %.4g Pa, 4 tau_w(V_ex) %.4g Pa: %+.2f %%\n", slope,
@@ -85,7 +87,7 @@ TEST(PasteRamExtrusionValidation, BenbowBridgwaterSpeeds) {
     std::snprintf(name, sizeof name, "paste_land_V%g", v);
     // Same ram displacements at every speed: the end time scales with 1/V.
     char end[80];
-    std::snprintf(end, sizeof end, "run.end_time=%g s", 3.5 / v);
+    std::snprintf(end, sizeof end, "run.end_time=%g s", 1.0 / v);
     const double p = steady_pressure(run_case(kDir + "paste_land.json", name, {set, end}));
     const double v_ex = 1e-3 * v * (kD0 / kD) * (kD0 / kD);
     const double bb = 2.0 * 0.6e6 * std::log(kD0 / kD) + 4.0 * (10.0 / 3.0) * tau_w(v_ex);
