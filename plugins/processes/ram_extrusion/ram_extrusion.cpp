@@ -136,11 +136,12 @@ class RamExtrusion final : public Process {
     const double zs = section_height_, half = 0.5 * spacing_;
     double zmin = std::numeric_limits<double>::infinity();
     std::size_t below = 0;
-    double ex_mass = 0.0, ex_momentum = 0.0, sec_volume = 0.0, sec_stress = 0.0;
-#pragma omp parallel for reduction(min : zmin) reduction(+ : below, ex_mass, ex_momentum, sec_volume, sec_stress) \
-    schedule(static)
+    double ex_mass = 0.0, ex_momentum = 0.0, sec_volume = 0.0, sec_stress = 0.0, kinetic = 0.0;
+#pragma omp parallel for reduction(min : zmin) \
+    reduction(+ : below, ex_mass, ex_momentum, sec_volume, sec_stress, kinetic) schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       const double z = x[3 * i + 2];
+      kinetic += 0.5 * m[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
       zmin = std::min(zmin, z);
       if (z < exit_z_) {
         below += 1;
@@ -160,8 +161,15 @@ class RamExtrusion final : public Process {
     // The section must lie in the billet, at least a spacing below the ram face.
     const bool section_valid = sec_volume > 0.0 && zs < ram.axial_offset_m - spacing_;
     section_pressure_ = section_valid ? -sec_stress / sec_volume : std::numeric_limits<double>::quiet_NaN();
+    // Energy ratio of the paper's mass-scaling rule (eq. 71): kinetic energy over the ram's work
+    // less it (what the material stored or dissipated), both for the full body.
+    ram_work_ += ram_force_ * (-ram.axial_velocity_m_s) * ctx.dt_s;
+    kinetic_ = sectors_ * kinetic;
+    energy_ratio_ = ram_work_ > kinetic_ ? kinetic_ / (ram_work_ - kinetic_) : 0.0;
     if (ctx.dt_s > 0.0) {
       peak_pressure_ = std::max(peak_pressure_, pressure_);
+      if (ram_displacement_ >= window_start_ && ram_displacement_ <= window_end_)
+        energy_ratio_window_max_ = std::max(energy_ratio_window_max_, energy_ratio_);
       if (ram_force_ > peak_force_) {  // eq. (75): F_L and where it occurs
         peak_force_ = ram_force_;
         peak_force_displacement_ = ram_displacement_;
@@ -179,7 +187,8 @@ class RamExtrusion final : public Process {
     return {{"ram_displacement_m", &ram_displacement_}, {"ram_velocity_m_s", &ram_velocity_},
             {"ram_force_N", &ram_force_},               {"extrusion_pressure_Pa", &pressure_},
             {"extrudate_length_m", &extrudate_length_}, {"extruded_particles_1", &extruded_},
-            {"extrudate_velocity_m_s", &extrudate_velocity_}, {"section_pressure_Pa", &section_pressure_}};
+            {"extrudate_velocity_m_s", &extrudate_velocity_}, {"section_pressure_Pa", &section_pressure_},
+            {"ram_work_J", &ram_work_},                 {"kinetic_to_ram_internal_ratio_1", &energy_ratio_}};
   }
 
   nlohmann::json metrics() const override {
@@ -193,6 +202,7 @@ class RamExtrusion final : public Process {
     m["peak_force_N"] = peak_force_;  // F_L (eq. 75)
     m["peak_force_ram_displacement_m"] = peak_force_displacement_;
     m["sector_count"] = sectors_;
+    m["kinetic_to_ram_internal_ratio_window_max"] = energy_ratio_window_max_;  // eq. (71)
     m["pressure_section_height_m"] = section_height_;
     m["steady_window_duration_s"] = window_.time;
     // Time-weighted mean and standard deviation over the steady window (eq. 74); null when the
@@ -229,6 +239,7 @@ class RamExtrusion final : public Process {
   WindowStats window_, section_window_;
   double window_end_ = 0.0, section_height_ = 0.0, extrudate_velocity_ = 0.0, section_pressure_ = 0.0;
   double peak_force_ = 0.0, peak_force_displacement_ = 0.0;
+  double ram_work_ = 0.0, kinetic_ = 0.0, energy_ratio_ = 0.0, energy_ratio_window_max_ = 0.0;
   int sectors_ = 1;
 };
 
