@@ -157,7 +157,7 @@ TEST_F(Bench, TwoSpacingsWriteCsvPlotJsonAndRunFolders) {
     EXPECT_TRUE(value == metric || value == metric + "_1") << value << " / " << error;
   }
   for (const auto& name : csv.header)
-    EXPECT_TRUE(std::regex_search(name, std::regex(R"(_(m|1|s|MB|Pa|per_s)$)"))) << "column without a unit: " << name;
+    EXPECT_TRUE(std::regex_search(name, std::regex(R"(_(m|1|s|MB|Pa|N|per_s)$)"))) << "column without a unit: " << name;
   for (const char* metric : {"peak_extrusion_pressure_Pa", "final_ram_displacement_m", "extruded_particles_1"})
     EXPECT_GE(csv.column(metric), 0) << metric;
 

@@ -28,9 +28,13 @@ class RamExtrusion final : public Process {
     spacing_ = p.number("particle_spacing");
     stroke_ = p.number("stroke");
     window_start_ = p.number("steady_window_start");
+    window_end_ = p.number("steady_window_end");
+    if (window_end_ <= window_start_) p.fail("steady_window_end", "must be larger than steady_window_start");
     rings_ = p.string("billet_lattice") == "rings";
     with_die_ = p.boolean("die");
     fill_die_ = p.boolean("fill_die");
+    sectors_ = static_cast<int>(p.integer("sector_count"));
+    section_height_ = p.number("pressure_section_height_over_barrel_radius") * barrel_radius_;
     if (ram_radius_ > barrel_radius_) p.fail("ram_diameter", "the ram must fit in the barrel");
     if (with_die_) make_die(p);
     if (spacing_ * 4 > billet_height_ || (with_die_ && spacing_ * 2 > die_radius_ * 2 + 1e-12))
@@ -61,8 +65,15 @@ class RamExtrusion final : public Process {
             continue;
           }
           const double circumference = 2.0 * std::numbers::pi * (q == 0 ? barrel_radius_ : r);
-          const int count = std::max(1, static_cast<int>(std::lround(circumference / spacing_)));
-          const double phase = 0.5 * ((q + k) % 2);  // staggered rings and layers
+          // With a sector of 360/N deg (numerics.symmetry) every ring holds a multiple of N
+          // particles, so that the ring maps onto itself and the core's clip (theory.md eq. 30)
+          // keeps exactly 1/N of it; N = 1 is the plain rounding.
+          const int count = sectors_ * std::max(1, static_cast<int>(std::lround(circumference / (spacing_ * sectors_))));
+          // Staggered rings and layers. In a sector the angles are shifted by a quarter of the
+          // pitch so that no particle lies on a cut (theta = 0 or 360/N deg): one there would be
+          // kept twice, once as itself at theta ~ 360/N - eps (round-off) and once as the ghost of
+          // its twin at theta = 0 (eq. 79; measured: 1768 particles in the sector for 7016 / 4).
+          const double phase = 0.5 * ((q + k) % 2) + (sectors_ > 1 ? 0.25 : 0.0);
           for (int a = 0; a < count; ++a) {
             const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
             points.emplace_back(r * std::cos(angle), r * std::sin(angle), (k + 0.5) * spacing_);
@@ -114,25 +125,61 @@ class RamExtrusion final : public Process {
   void measure(ProcessContext& ctx) override {
     const RigidTool& ram = (*ctx.tools)[ram_];
     ram_displacement_ = ram_top_start_ - ram.axial_offset_m;
-    ram_force_ = ram.reaction_force_N.z();  // material pushes the ram up (+z)
-    pressure_ = ram_force_ / (std::numbers::pi * barrel_radius_ * barrel_radius_);
+    // A sector of 360/N deg carries 1/N of the ram's reaction (theory.md section 11): the
+    // full-body force is N times it (eq. 70).
+    ram_force_ = sectors_ * ram.reaction_force_N.z();  // material pushes the ram up (+z)
+    pressure_ = ram_force_ / (std::numbers::pi * barrel_radius_ * barrel_radius_);  // eq. (70)
     const double* x = ctx.fields->f64(field::position);
-    const std::size_t n = ctx.fields->size();
+    const double* v = ctx.fields->f64(field::velocity);
+    const double* m = ctx.fields->f64(field::mass);
+    const double* rho = ctx.fields->f64(field::density);
+    const double* p = ctx.fields->f64(field::pressure);
+    const double* s = ctx.fields->f64(field::deviatoric_stress);
+    const std::size_t n = ctx.mechanical_count;
+    const double zs = section_height_, half = 0.5 * spacing_;
     double zmin = std::numeric_limits<double>::infinity();
     std::size_t below = 0;
-#pragma omp parallel for reduction(min : zmin) reduction(+ : below) schedule(static)
+    double ex_mass = 0.0, ex_momentum = 0.0, sec_volume = 0.0, sec_stress = 0.0, kinetic = 0.0;
+#pragma omp parallel for reduction(min : zmin) \
+    reduction(+ : below, ex_mass, ex_momentum, sec_volume, sec_stress, kinetic) schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
-      zmin = std::min(zmin, x[3 * i + 2]);
-      below += x[3 * i + 2] < exit_z_ ? 1 : 0;
+      const double z = x[3 * i + 2];
+      kinetic += 0.5 * m[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+      zmin = std::min(zmin, z);
+      if (z < exit_z_) {
+        below += 1;
+        ex_mass += m[i];
+        ex_momentum -= m[i] * v[3 * i + 2];  // extrudate moves in -z (eq. 72)
+      }
+      if (std::abs(z - zs) < half) {
+        // The slab |z - z_s| < dx/2 samples the whole barrel cross-section (eq. 73).
+        const double vol = m[i] / rho[i];
+        sec_volume += vol;
+        sec_stress += vol * (s[6 * i + 2] - p[i]);  // sigma_zz = s_zz - p
+      }
     }
     extrudate_length_ = std::max(0.0, exit_z_ - (zmin - 0.5 * spacing_));
     extruded_ = static_cast<double>(below);
+    extrudate_velocity_ = ex_mass > 0.0 ? ex_momentum / ex_mass : 0.0;
+    // The section must lie in the billet, at least a spacing below the ram face.
+    const bool section_valid = sec_volume > 0.0 && zs < ram.axial_offset_m - spacing_;
+    section_pressure_ = section_valid ? -sec_stress / sec_volume : std::numeric_limits<double>::quiet_NaN();
+    // Energy ratio of the paper's mass-scaling rule (eq. 71): kinetic energy over the ram's work
+    // less it (what the material stored or dissipated), both for the full body.
+    ram_work_ += ram_force_ * (-ram.axial_velocity_m_s) * ctx.dt_s;
+    kinetic_ = sectors_ * kinetic;
+    energy_ratio_ = ram_work_ > kinetic_ ? kinetic_ / (ram_work_ - kinetic_) : 0.0;
     if (ctx.dt_s > 0.0) {
       peak_pressure_ = std::max(peak_pressure_, pressure_);
-      if (ram_displacement_ >= window_start_) {
-        window_sum_ += pressure_ * ctx.dt_s;
-        window_sum2_ += pressure_ * pressure_ * ctx.dt_s;
-        window_time_ += ctx.dt_s;
+      if (ram_displacement_ >= window_start_ && ram_displacement_ <= window_end_)
+        energy_ratio_window_max_ = std::max(energy_ratio_window_max_, energy_ratio_);
+      if (ram_force_ > peak_force_) {  // eq. (75): F_L and where it occurs
+        peak_force_ = ram_force_;
+        peak_force_displacement_ = ram_displacement_;
+      }
+      if (ram_displacement_ >= window_start_ && ram_displacement_ <= window_end_) {
+        window_.add(pressure_, ctx.dt_s);
+        if (section_valid) section_window_.add(section_pressure_, ctx.dt_s);
       }
     }
   }
@@ -142,7 +189,9 @@ class RamExtrusion final : public Process {
   std::vector<HistoryColumn> history_columns() const override {
     return {{"ram_displacement_m", &ram_displacement_}, {"ram_velocity_m_s", &ram_velocity_},
             {"ram_force_N", &ram_force_},               {"extrusion_pressure_Pa", &pressure_},
-            {"extrudate_length_m", &extrudate_length_}, {"extruded_particles_1", &extruded_}};
+            {"extrudate_length_m", &extrudate_length_}, {"extruded_particles_1", &extruded_},
+            {"extrudate_velocity_m_s", &extrudate_velocity_}, {"section_pressure_Pa", &section_pressure_},
+            {"ram_work_J", &ram_work_},                 {"kinetic_to_ram_internal_ratio_1", &energy_ratio_}};
   }
 
   nlohmann::json metrics() const override {
@@ -152,15 +201,19 @@ class RamExtrusion final : public Process {
     m["extrudate_length_m"] = extrudate_length_;
     m["extruded_particles"] = extruded_;
     m["steady_window_start_m"] = window_start_;
-    if (window_time_ > 0.0) {
-      // Time-weighted mean and standard deviation of P_ex over the steady window.
-      const double mean = window_sum_ / window_time_;
-      m["steady_extrusion_pressure_Pa"] = mean;
-      m["steady_extrusion_pressure_scatter_Pa"] =
-          std::sqrt(std::max(0.0, window_sum2_ / window_time_ - mean * mean));
-    } else {
-      m["steady_extrusion_pressure_Pa"] = nullptr;
-    }
+    m["steady_window_end_m"] = window_end_;
+    m["peak_force_N"] = peak_force_;  // F_L (eq. 75)
+    m["peak_force_ram_displacement_m"] = peak_force_displacement_;
+    m["sector_count"] = sectors_;
+    m["kinetic_to_ram_internal_ratio_window_max"] = energy_ratio_window_max_;  // eq. (71)
+    m["pressure_section_height_m"] = section_height_;
+    m["steady_window_duration_s"] = window_.time;
+    // Time-weighted mean and standard deviation over the steady window (eq. 74); null when the
+    // window was never reached (or the section never lay in the billet).
+    m["steady_extrusion_pressure_Pa"] = window_.mean();
+    m["steady_extrusion_pressure_scatter_Pa"] = window_.scatter();
+    m["steady_section_pressure_Pa"] = section_window_.mean();
+    m["steady_section_pressure_scatter_Pa"] = section_window_.scatter();
     return m;
   }
 
@@ -268,7 +321,26 @@ class RamExtrusion final : public Process {
   ram_extrusion::DieShape die_;
   double ram_velocity_ = 0.0, ram_force_ = 0.0, ram_displacement_ = 0.0, pressure_ = 0.0;
   double extrudate_length_ = 0.0, extruded_ = 0.0, peak_pressure_ = 0.0;
-  double window_sum_ = 0.0, window_sum2_ = 0.0, window_time_ = 0.0;
+  // Time-weighted running sums of a signal over the steady window (eq. 74).
+  struct WindowStats {
+    double sum = 0.0, sum2 = 0.0, time = 0.0;
+    void add(double value, double dt) {
+      sum += value * dt;
+      sum2 += value * value * dt;
+      time += dt;
+    }
+    nlohmann::json mean() const { return time > 0.0 ? nlohmann::json(sum / time) : nlohmann::json(nullptr); }
+    nlohmann::json scatter() const {
+      if (time <= 0.0) return nullptr;
+      const double mu = sum / time;
+      return std::sqrt(std::max(0.0, sum2 / time - mu * mu));
+    }
+  };
+  WindowStats window_, section_window_;
+  double window_end_ = 0.0, section_height_ = 0.0, extrudate_velocity_ = 0.0, section_pressure_ = 0.0;
+  double peak_force_ = 0.0, peak_force_displacement_ = 0.0;
+  double ram_work_ = 0.0, kinetic_ = 0.0, energy_ratio_ = 0.0, energy_ratio_window_max_ = 0.0;
+  int sectors_ = 1;
 };
 
 const PluginDescriptor& descriptor() {
@@ -317,6 +389,15 @@ const PluginDescriptor& descriptor() {
                                         "[{\"r\": \"14 mm\", \"z\": \"0 mm\", \"fillet\": \"2 mm\"}, ...]"),
         ParamSpec::boolean("fill_die", false,
                            "true: the material also fills the die cavity below z = 0 at the start (dry-ice cases)"),
+        ParamSpec::number("steady_window_end", "m", 1e9,
+                          "ram displacement up to which the steady extrusion pressure is averaged", 0.0),
+        ParamSpec::integer("sector_count", 1,
+                           "N when numerics.symmetry is a sector of 360/N deg: the ram force is multiplied by N and "
+                           "the rings lattice holds multiples of N per ring (must match numerics.symmetry)",
+                           1, 64),
+        ParamSpec::number("pressure_section_height_over_barrel_radius", "1", 1.5,
+                          "height of the barrel cross-section, above the die face, over which the axial stress is "
+                          "averaged, in barrel radii (the paper's P_ex: 1.5)", 0.0),
     });
   return d;
 }
