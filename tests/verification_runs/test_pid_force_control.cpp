@@ -13,8 +13,8 @@
 //   0.64 of E^-1 sigma; the interior strain is within 3.5 %), converging with about first order. The
 //   3 % is NOT met by this cube; the bound below, 10 %, is a regression bound around the measured -8.6 %,
 //   not the criterion. The layer is a fixed number of particle layers, so its relative size
-//   falls as dx/L: the slender block (L/dx = 40) of tests/validation_runs/test_pid_force_slender.cpp
-//   checks the 3 % (-2.8 % measured, ~10 min on one thread, not in CI).
+//   falls as dx/L: the slender block (L/dx = 40) of test_pid_force_slender.cpp checks the 3 %
+//   (-2.8 % measured).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -35,7 +35,7 @@ TEST(PidForceControl, PunchSettlesAtTheTargetForceOnAnElasticBlock) {
   record("verification_results.txt", r.line + "\n");
   EXPECT_LT(r.mean_abs_force_error, 0.01);           // the 1 %
   EXPECT_LT(std::abs(r.shortening_error), 0.10);     // regression bound (see the header): the 3 % is checked on
-                                                     // the slender block (tests/validation_runs/)
+                                                     // the slender block (test_pid_force_slender.cpp)
   EXPECT_GT(std::abs(read_history(run.out / "history.csv")["force_command_m_s"][1]), 0.0);  // the punch was driven
 }
 

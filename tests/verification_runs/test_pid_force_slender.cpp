@@ -1,4 +1,4 @@
-// Validation (label `validation`, not in CI: about 10 minutes on one thread): PID force control on
+// Verification 12b (label `verification`; 4,000 particles, ~80 s on one idle thread): PID force control on
 // the slender block of cases/verification/pid_force_slender_block.json (5 x 5 x 20 mm, dx = 0.5 mm,
 // L/dx = 40; docs/verification.md section 12b). Issue 6's criteria: after settling (t >= 40 ms, five
 // closed-loop time constants) the mean force error below 1 % of the target and the block's
@@ -16,7 +16,7 @@ namespace {
 
 using namespace sphforge_verification;
 
-TEST(PidForceControlValidation, SlenderBlockWithinThreePercent) {
+TEST(PidForceControl, SlenderBlockWithinThreePercent) {
   const RunResult run = run_case("pid_force_slender_block.json", "pid_force_slender_block", {});
   ASSERT_EQ(run.code, 0) << run.err;
   const PidBlockResult r = analyse_pid_block(run.out, "pid_force_slender_block", 0.25, 1e6, 25e-6, 20e-3, 0.5e-3, 40e-3);
