@@ -1,0 +1,41 @@
+# Shared part of the bundled-case CTests (label `cases`), included by each tests/cases/<case>.cmake:
+# runs `sphforge run CASE --out OUT` (OUT is a folder inside the build tree, owned by the test) and
+# reads summary.json into `summary`, `status`, `ratio` (kinetic_to_work_ratio_max) and `wall`.
+# Invoked as: cmake -DSPHFORGE=... -DCASE=... -DOUT=... -P <case>.cmake
+file(REMOVE_RECURSE "${OUT}")
+execute_process(COMMAND "${CMAKE_COMMAND}" -E env OMP_WAIT_POLICY=PASSIVE "${SPHFORGE}" run "${CASE}" --out "${OUT}" --quiet
+                RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "sphforge run ${CASE} exited with ${rc}")
+endif()
+file(READ "${OUT}/summary.json" summary)
+string(JSON status GET "${summary}" status)
+string(JSON ratio GET "${summary}" kinetic_to_work_ratio_max)
+string(JSON wall GET "${summary}" wall_time_s)
+
+# The metric `key` of summary.json into `var`.
+macro(case_metric var key)
+  string(JSON ${var} GET "${summary}" metrics ${key})
+endmacro()
+
+# Fails unless the run ended with `expected` (completed, process_finished, ...).
+function(expect_status expected why)
+  if(NOT status STREQUAL "${expected}")
+    message(FATAL_ERROR "status is '${status}', expected '${expected}' (${why})")
+  endif()
+endfunction()
+
+# Quasi-static: kinetic energy below 10 % of the ram's work (the paper's rule of thumb for mass
+# scaling); a growing numerical oscillation would break it first.
+function(expect_quasi_static)
+  if(ratio GREATER 0.1)
+    message(FATAL_ERROR "kinetic/work ratio ${ratio} > 0.1: not quasi-static or unstable")
+  endif()
+endfunction()
+
+# Fails when `value` is below the physical lower bound `bound` (named by `what`).
+function(expect_at_least value bound what)
+  if(value LESS bound)
+    message(FATAL_ERROR "${what} ${value} is below ${bound}")
+  endif()
+endfunction()
