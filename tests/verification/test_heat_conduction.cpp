@@ -11,7 +11,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "engine/simulation.hpp"
+#include "in_process_case.hpp"
 #include "sphforge/case_file.hpp"
 
 namespace {
@@ -19,26 +19,10 @@ namespace {
 using namespace sphforge;
 namespace fs = std::filesystem;
 
-const fs::path kCases = fs::path(SPHFORGE_SOURCE_DIR) / "cases" / "verification";
+using sphforge_test::InProcessCase;
 
-fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("sphforge_verify_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-struct CaseRun {
-  std::unique_ptr<PluginLoader> loader;
-  std::unique_ptr<Simulation> sim;
-  fs::path out;
-};
-
-CaseRun run_case(const std::string& file, const std::vector<std::string>& overrides, const std::string& tag) {
-  CaseRun r;
-  r.loader = std::make_unique<PluginLoader>(std::vector<fs::path>{SPHFORGE_PLUGIN_BUILD_DIR});
-  r.sim = std::make_unique<Simulation>(load_case((kCases / file).string(), overrides), *r.loader);
-  r.out = scratch_dir(tag);
+InProcessCase run_case(const std::string& file, const std::vector<std::string>& overrides, const std::string& tag) {
+  InProcessCase r = sphforge_test::make_case(file, overrides, tag);
   const auto result = r.sim->run(r.out, ProgressMode::Quiet);
   EXPECT_EQ(result.exit_code, 0) << result.message;
   return r;
@@ -58,7 +42,7 @@ double erf_error(const std::string& dx, const std::string& tag, double* conserva
                  const std::vector<std::string>& extra = {}, double physical_time = 2.0) {
   std::vector<std::string> sets = {"process.particle_spacing=" + dx};
   sets.insert(sets.end(), extra.begin(), extra.end());
-  const CaseRun r = run_case("conduction_erf.json", sets, tag);
+  const InProcessCase r = run_case("conduction_erf.json", sets, tag);
   const Simulation& sim = *r.sim;
   const double alpha = 50.0 / (8000.0 * 500.0), t = physical_time, T0 = 293.15, T1 = 393.15;
   const double* x = sim.fields().f64(field::position);
@@ -134,7 +118,7 @@ TEST(HeatConduction, ErfErrorConvergesWithResolution) {
 // carries the flux across the interface; what remains is the not-quite-steady state at t = 60 s
 // (slowest decay time L^2 / (pi^2 alpha) of about 2 s) and the layers next to the held ends.
 TEST(HeatConduction, TwoMaterialsInSeriesInterfaceTemperature) {
-  const CaseRun r = run_case("two_material_series.json", {}, "series");
+  const InProcessCase r = run_case("two_material_series.json", {}, "series");
   const Simulation& sim = *r.sim;
   const double* x = sim.fields().f64(field::position);
   const double* T = sim.fields().f64(field::temperature);
@@ -168,7 +152,7 @@ TEST(HeatConduction, TwoMaterialsInSeriesInterfaceTemperature) {
 // Tolerance 5 % of the initial excess temperature: the Biot number itself makes the lumped answer
 // about 1 % off, and the kernel area estimate (eq. 22) smooths the lattice's staircase surface.
 TEST(HeatConduction, NewtonCoolingOfABallFollowsTheLumpedSolution) {
-  const CaseRun r = run_case("newton_cooling.json", {}, "newton");
+  const InProcessCase r = run_case("newton_cooling.json", {}, "newton");
   const Simulation& sim = *r.sim;
   const double dx = 1e-3, rho = 8000.0, c = 500.0, h = 600.0, T_inf = 293.15, T0 = 493.15;
   const double volume = static_cast<double>(sim.particle_count()) * dx * dx * dx;

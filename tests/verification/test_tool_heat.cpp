@@ -15,7 +15,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
-#include "engine/simulation.hpp"
+#include "in_process_case.hpp"
 #include "sphforge/case_file.hpp"
 
 namespace {
@@ -23,28 +23,13 @@ namespace {
 using namespace sphforge;
 namespace fs = std::filesystem;
 
-const fs::path kCases = fs::path(SPHFORGE_SOURCE_DIR) / "cases" / "verification";
-
-fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("sphforge_toolheat_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 /// A case built in-process (fields readable before and after the run).
-struct CaseRun {
-  std::unique_ptr<PluginLoader> loader;
-  std::unique_ptr<Simulation> sim;
-  fs::path out;
+struct CaseRun : sphforge_test::InProcessCase {
   std::map<std::int64_t, Eigen::Vector3d> initial;  ///< position of each particle id at t = 0
 };
 
 CaseRun build_case(const std::string& file, const std::vector<std::string>& overrides, const std::string& tag) {
-  CaseRun r;
-  r.loader = std::make_unique<PluginLoader>(std::vector<fs::path>{SPHFORGE_PLUGIN_BUILD_DIR});
-  r.sim = std::make_unique<Simulation>(load_case((kCases / file).string(), overrides), *r.loader);
-  r.out = scratch_dir(tag);
+  CaseRun r{sphforge_test::make_case(file, overrides, "toolheat_" + tag), {}};
   const double* x = r.sim->fields().f64(field::position);
   const std::int64_t* id = r.sim->fields().i64(field::id);
   for (std::size_t i = 0; i < r.sim->particle_count(); ++i) r.initial[id[i]] = Eigen::Vector3d(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
