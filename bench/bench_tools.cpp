@@ -15,6 +15,7 @@
 
 #include "sphforge/tool.hpp"
 #include "tools/shapes.hpp"
+#include "uv_sphere.hpp"
 
 namespace {
 
@@ -23,26 +24,8 @@ using Vec = Eigen::Vector3d;
 
 /// A UV sphere of radius r with nt x np facets pairs (a mesh large enough for the hierarchy to matter).
 RigidTool sphere_mesh(double r, int nt, int np) {
-  std::vector<Vec> points{Vec(0, 0, r)};
-  for (int i = 1; i < nt; ++i)
-    for (int j = 0; j < np; ++j) {
-      const double th = std::numbers::pi * i / nt, ph = 2 * std::numbers::pi * j / np;
-      points.emplace_back(r * std::sin(th) * std::cos(ph), r * std::sin(th) * std::sin(ph), r * std::cos(th));
-    }
-  points.emplace_back(0, 0, -r);
-  const int south = static_cast<int>(points.size()) - 1;
-  auto id = [&](int i, int j) { return 1 + (i - 1) * np + (j % np); };
-  std::vector<std::array<int, 3>> tris;
-  for (int j = 0; j < np; ++j) {
-    tris.push_back({0, id(1, j), id(1, j + 1)});
-    tris.push_back({south, id(nt - 1, j + 1), id(nt - 1, j)});
-  }
-  for (int i = 1; i + 1 < nt; ++i)
-    for (int j = 0; j < np; ++j) {
-      tris.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      tris.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return RigidTool("sphere", make_mesh_shape(points, tris));
+  const sphforge_test::TriangleMesh m = sphforge_test::uv_sphere(r, nt, np);
+  return RigidTool("sphere", make_mesh_shape(m.points, m.triangles));
 }
 
 RigidTool make(int kind) {

@@ -9,6 +9,7 @@
 
 #include "sphforge/tool.hpp"
 #include "tools/shapes.hpp"
+#include "uv_sphere.hpp"
 
 using namespace sphforge;
 using Vec = Eigen::Vector3d;
@@ -222,25 +223,9 @@ TEST(Tools, HierarchyEqualsBruteForceOnATessellatedSphere) {
   // A UV sphere of radius 1 (40 x 80 facets): the hierarchy must return exactly what the scan
   // over every triangle returns; both lie within the tessellation error of the true sphere.
   const int nt = 40, np = 80;
-  std::vector<Vec> points{Vec(0, 0, 1)};
-  for (int i = 1; i < nt; ++i)
-    for (int j = 0; j < np; ++j) {
-      const double th = std::numbers::pi * i / nt, ph = 2 * std::numbers::pi * j / np;
-      points.emplace_back(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
-    }
-  points.emplace_back(0, 0, -1);
-  const int south = static_cast<int>(points.size()) - 1;
-  auto id = [&](int i, int j) { return 1 + (i - 1) * np + (j % np); };
-  std::vector<std::array<int, 3>> tris;
-  for (int j = 0; j < np; ++j) {
-    tris.push_back({0, id(1, j), id(1, j + 1)});
-    tris.push_back({south, id(nt - 1, j + 1), id(nt - 1, j)});
-  }
-  for (int i = 1; i + 1 < nt; ++i)
-    for (int j = 0; j < np; ++j) {
-      tris.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      tris.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
+  const sphforge_test::TriangleMesh sphere_mesh = sphforge_test::uv_sphere(1.0, nt, np);
+  const auto& points = sphere_mesh.points;
+  const auto& tris = sphere_mesh.triangles;
   const auto mesh = make_mesh_shape(points, tris);
   const RigidTool sphere("sphere", mesh);
   // Tessellation error bound: every point of a triangle lies in its circumscribed disc, whose
