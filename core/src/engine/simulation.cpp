@@ -138,7 +138,8 @@ const ParamSpecs& contact_specs() {
       ParamSpec::object("tool_laws", "per-tool friction laws overriding 'law', keyed by tool name"),
       ParamSpec::number("friction_heat_to_workpiece", "1", 0.5,
                         "fraction of the friction heat |f_t||v_t| that enters the workpiece; the rest goes to the "
-                        "thermally inert tool (theory eq. 18f)",
+                        "tool: into its attached thermal body if it has one (eq. 91), else it leaves the model "
+                        "(theory eq. 18f)",
                         0.0, 1.0),
   };
   return specs;
