@@ -40,3 +40,34 @@ TEST(PidForceControl, PunchSettlesAtTheTargetForceOnAnElasticBlock) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(PidForceControl, PhaseEndsWhenAProbeSignalCrossesItsThreshold) {
+  // The generic process publishes every probe and every tool position as measured signals: a phase
+  // that ends when the block's top has moved 0.03 mm down switches at the first step past it.
+  const RunResult run = run_case(
+      "pid_force_block.json", "pid_force_block_phases",
+      {R"(phases=[{"name":"press","end":{"signal":"top_displacement_z","below":"-0.03 mm"}},)"
+       R"({"name":"hold","end":{"signal":"punch_position","below":"-1 m"}}])",
+       "run.end_time=8 ms"});
+  ASSERT_EQ(run.code, 0) << run.err;
+  const json summary = read_summary(run.out);
+  ASSERT_TRUE(summary.contains("phases")) << summary.dump(2);
+  const double switched = summary["phases"][0]["end_s"].get<double>();
+  EXPECT_TRUE(summary["phases"][1]["end_s"].is_null());  // the punch never reaches -1 m
+  const History h = read_history(run.out / "history.csv");
+  const auto& t = h["time_s"];
+  const auto& top = h["top_displacement_z_m"];
+  const auto& phase = h["phase_1"];
+  for (std::size_t k = 1; k < t.size(); ++k) {
+    if (t[k] < switched) {
+      EXPECT_EQ(phase[k], 1.0) << t[k];
+      EXPECT_GE(top[k], -0.03e-3) << t[k];  // still above the threshold: the phase has not ended
+    } else if (t[k] > switched) {
+      EXPECT_EQ(phase[k], 2.0) << t[k];
+    }
+  }
+}
+
+}  // namespace

@@ -208,7 +208,7 @@ struct ToolEntry {
   std::size_t index = 0;
   bool commanded = false;
   double axial_velocity = 0.0, angular_velocity = 0.0;  // constant or commanded (m/s, rad/s)
-  double force_z = 0.0, torque = 0.0;                   // measured signals
+  double force_z = 0.0, torque = 0.0, position = 0.0;   // measured signals (N, N*m, m)
 };
 
 const ParamSpecs& probe_specs() {
@@ -362,6 +362,7 @@ class Generic final : public Process {
       e.commanded = q.boolean("command");
       e.axial_velocity = tool.axial_velocity_m_s;
       e.angular_velocity = tool.angular_velocity_rad_s;
+      e.position = tool.axial_offset_m;
       e.index = scene.add_tool(std::move(tool));
       tools_.push_back(e);
     }
@@ -397,10 +398,13 @@ class Generic final : public Process {
       const std::string& name = tool_names_[t];
       bus.add_measured(name + "_force_z", "N", &tools_[t].force_z);
       bus.add_measured(name + "_torque", "N*m", &tools_[t].torque);
+      bus.add_measured(name + "_position", "m", &tools_[t].position);
       if (!tools_[t].commanded) continue;
       bus.add_command(name + "_axial_velocity", "m/s", &tools_[t].axial_velocity);
       bus.add_command(name + "_angular_velocity", "rad/s", &tools_[t].angular_velocity);
     }
+    // Probes are measured signals too (a phase may end when a thermocouple reads a temperature).
+    for (Probe& p : probes_) bus.add_measured(p.name + "_" + p.quantity, signal_unit_of(p.quantity), &p.value);
   }
 
   void initialize(ProcessContext& ctx) override {
@@ -573,6 +577,7 @@ class Generic final : public Process {
     for (ToolEntry& e : tools_) {
       e.force_z = (*ctx.tools)[e.index].reaction_force_N.z();
       e.torque = (*ctx.tools)[e.index].reaction_torque_Nm;
+      e.position = (*ctx.tools)[e.index].axial_offset_m;
     }
     for (std::size_t t = 0; t < plane_velocity_.size(); ++t) {
       (*ctx.tools)[t].axial_velocity_m_s = plane_velocity_[t].first;
@@ -620,6 +625,11 @@ class Generic final : public Process {
   }
 
  private:
+  /// The unit of a probe's quantity as a unit expression (signals), and as a column suffix (unit_of).
+  static std::string signal_unit_of(const std::string& q) {
+    const std::string u = unit_of(q);
+    return u == "m_s" ? "m/s" : u;
+  }
   static std::string unit_of(const std::string& q) {
     if (q.rfind("displacement_", 0) == 0) return "m";
     if (q.rfind("velocity_", 0) == 0) return "m_s";
