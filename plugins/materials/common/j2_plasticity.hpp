@@ -27,6 +27,14 @@ inline double von_mises(const double* s) {
   return std::sqrt(1.5 * ss);
 }
 
+/// Isotropic moduli from Young's modulus and Poisson's ratio: G = E/(2(1 + nu)), K = E/(3(1 - 2 nu)) (eq. 33).
+struct ElasticModuli {
+  double bulk, shear;  ///< K, G (Pa)
+};
+inline ElasticModuli moduli_from_youngs(double youngs_modulus, double poisson_ratio) {
+  return {youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)), youngs_modulus / (2.0 * (1.0 + poisson_ratio))};
+}
+
 /// Linear equation of state p = K (rho/rho0 - 1) (eq. 17).
 inline double linear_pressure(double bulk_modulus, double density, double reference_density) {
   return bulk_modulus * (density / reference_density - 1.0);

@@ -29,8 +29,9 @@ class Elastoplastic final : public Material {
     if (E > 0.0) {
       if (K > 0.0 || G > 0.0) p.fail("bulk_modulus", "give either youngs_modulus and poisson_ratio, or bulk_modulus and shear_modulus, not both");
       if (nu == -1.0) p.fail("poisson_ratio", "is required with youngs_modulus");
-      G_ = E / (2.0 * (1.0 + nu));
-      K_ = E / (3.0 * (1.0 - 2.0 * nu));
+      const j2::ElasticModuli moduli = j2::moduli_from_youngs(E, nu);  // eq. 33
+      K_ = moduli.bulk;
+      G_ = moduli.shear;
     } else {
       if (!(K > 0.0)) p.fail("bulk_modulus", "give youngs_modulus and poisson_ratio, or bulk_modulus and shear_modulus");
       if (!(G > 0.0)) p.fail("shear_modulus", "is required with bulk_modulus");

@@ -66,9 +66,9 @@ class JohnsonCook final : public Material {
         c1_(p.number("specific_heat_slope")),
         outputs_(p) {
     law_ = {p.number("A"), p.number("B"), p.number("n"), p.number("C"), p.number("reference_strain_rate"), p.number("m")};
-    const double E = p.number("youngs_modulus"), nu = p.number("poisson_ratio");
-    G_ = E / (2.0 * (1.0 + nu));
-    K_ = E / (3.0 * (1.0 - 2.0 * nu));
+    const j2::ElasticModuli moduli = j2::moduli_from_youngs(p.number("youngs_modulus"), p.number("poisson_ratio"));
+    K_ = moduli.bulk;  // eq. 33
+    G_ = moduli.shear;
     if (!(T_melt_ > T_ref_)) p.fail("melting_temperature", "must exceed reference_temperature");
     if (law_.B > 0.0 && !(law_.n > 0.0)) p.fail("n", "must be positive when B > 0");
     // Both thermal properties must stay positive over 0 <= Th <= 1 (eq. 38).
