@@ -173,6 +173,19 @@ namespace {
 
 using namespace sphforge_verification;
 
+/// Mean of the history column `P` over the rows whose ram displacement `x` lies in [lo, hi]: a
+/// plateau of the discrete plug flows of 11.5 and 11.5b. More than 10 rows are expected in it.
+double plateau_mean(const std::vector<double>& x, const std::vector<double>& P, double lo, double hi) {
+  double sum = 0, count = 0;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (x[k] >= lo && x[k] <= hi) {
+      sum += P[k];
+      count += 1;
+    }
+  EXPECT_GT(count, 10) << "plateau " << lo << "-" << hi << " m of ram travel has no history rows";
+  return sum / std::max(count, 1.0);
+}
+
 // 11.5 Navier-slip plug flow (cases/ram_extrusion/navier_plug_flow.json): a paste billet on polar
 // rings (4 layers of dx = 2 pi R0 / 32) pushed out of an open barrel, R0 = 12.5 mm; wall law
 // tau_w = tau_0 + beta V^n on the barrel (tau_0 = 1.8e4 Pa, beta = 5.4e5, n = 0.58), frictionless
@@ -193,17 +206,7 @@ TEST(Contact, NavierSlipPlugFlowPressureGradient) {
     const History h = read_history(r.out / "history.csv");
     const auto& x = h["ram_displacement_m"];
     const auto& P = h["extrusion_pressure_Pa"];
-    auto plateau = [&](double lo, double hi) {
-      double sum = 0, count = 0;
-      for (std::size_t k = 0; k < h.rows; ++k)
-        if (x[k] >= lo * dx && x[k] <= hi * dx) {
-          sum += P[k];
-          count += 1;
-        }
-      EXPECT_GT(count, 10) << "plateau " << lo << "-" << hi << " dx has no history rows";
-      return sum / std::max(count, 1.0);
-    };
-    const double p3 = plateau(1.15, 1.45), p2 = plateau(2.15, 2.48);
+    const double p3 = plateau_mean(x, P, 1.15 * dx, 1.45 * dx), p2 = plateau_mean(x, P, 2.15 * dx, 2.48 * dx);
     const double gradient = (p2 - p3) / dx;
     const double tau_w = tau0 + beta * std::pow(V, n);
     const double exact = -2.0 / R0 * tau_w;
@@ -240,14 +243,7 @@ TEST(Contact, NavierSlipPlugFlowInADieLand) {
   const auto& P = h["extrusion_pressure_Pa"];
   const struct { int layers; double lo, hi; } windows[] = {{4, 0.25, 0.5}, {3, 1.15, 1.45}, {2, 2.15, 2.48}};
   for (const auto& w : windows) {
-    double sum = 0, count = 0;
-    for (std::size_t k = 0; k < h.rows; ++k)
-      if (x[k] >= w.lo * dx && x[k] <= w.hi * dx) {
-        sum += P[k];
-        count += 1;
-      }
-    ASSERT_GT(count, 10);
-    const double measured = sum / count, exact = 4.0 * (w.layers * dx / D) * tau_w;
+    const double measured = plateau_mean(x, P, w.lo * dx, w.hi * dx), exact = 4.0 * (w.layers * dx / D) * tau_w;
     const double err = measured / exact - 1.0;
     char line[300];
     std::snprintf(line, sizeof line,
