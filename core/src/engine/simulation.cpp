@@ -72,6 +72,10 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::number("time_scaling", "1", 1.0,
                         "processes run f times faster; rate laws and heat flow are corrected (theory eq. 25)", 1.0,
                         1e6),
+      ParamSpec::number("domain_margin", "m", -1.0,
+                        "how far a particle may go beyond the initial scene's bounding box before the run stops "
+                        "as unstable (-1: the box's own size, at least 100 spacings); raise it for long extrudates",
+                        -1.0),
       ParamSpec::number("xsph", "1", 0.0, "XSPH velocity smoothing epsilon (theory eq. 19; 0: off)", 0.0, 1.0),
       ParamSpec::object("symmetry",
                         "mirror planes and/or a rotationally periodic sector about z: only the particles inside "
@@ -320,6 +324,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.h_over_dx = numerics.number("h_over_dx");
   settings_.cfl = numerics.number("cfl");
   settings_.neighbour_skin = numerics.number("neighbour_skin");
+  settings_.domain_margin_m = numerics.number("domain_margin");
   settings_.gradient_correction = numerics.boolean("gradient_correction");
   const ParamValues av = numerics.sub("artificial_viscosity", viscosity_specs());
   settings_.viscosity = {av.number("alpha"), av.number("beta"), av.number("eta")};
@@ -721,7 +726,10 @@ void Simulation::check_stability() const {
         throw InstabilityError(step_, time_, ids[bad], field::position,
                                "particle left the domain at (" + format_g(x[3 * bad]) + ", " +
                                    format_g(x[3 * bad + 1]) + ", " + format_g(x[3 * bad + 2]) +
-                                   ") m: the domain is the initial scene enlarged by its size on every side");
+                                   ") m: the domain is the initial scene enlarged by " +
+                                   format_g(domain_margin_used_m_) +
+                                   " m on every side (numerics.domain_margin; raise it if the particle "
+                                   "is a legitimate extrudate)");
       // Energy ledger: without body forces, the kinetic energy can never exceed what the tools
       // put in plus what the particles started with; twice that means energy is being created.
       double work = 0.0;
@@ -876,12 +884,8 @@ void Simulation::mechanics_rates() {
   // corrected gradient used, as the energy consistency of eq. 7 requires.
   momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, xe, ve, me, rho_e, volume, stress_c,
                 settings_.artificial_stress, artificial, a, n);
-  // Internal energy: the work done against the internal forces (elastic storage, plastic and
-  // viscous dissipation), with the step-centred velocity so that the energy balance of a free
-  // body closes to round-off (eq. 27).
-  internal_energy_ += internal_work(m, v, a, dt_, n);
-  // Body force (gravity), after the internal work so that it is not booked as internal (eq. 47),
-  // and before the contact pass so that a sticking force can cancel it (eq. 18a).
+  // Body force (gravity): the internal-work ledger below takes it out again so that it is not
+  // booked as internal (eq. 47); added before the contact pass so that a sticking force can cancel it (eq. 18a).
   // g + A cos(omega t) at the step's time t^n, where the leapfrog evaluates every force (eq. 47a).
   body_now_ = body_acceleration_ + body_oscillation_ * std::cos(body_angular_frequency_ * time_);
   if (body_now_.squaredNorm() > 0.0) add_body_force(body_now_.data(), settings_.mass_scaling, a, n);
@@ -906,6 +910,12 @@ void Simulation::mechanics_rates() {
     contacts_ = contact_.apply(tools_, ca);
     contact_time_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - contact_start).count();
   }
+  // Internal energy: the work done against the internal forces (elastic storage, plastic and
+  // viscous dissipation) with the step-centred velocity of the total acceleration, so that the
+  // energy balance closes to round-off for a free body and stays unbiased against walls (eq. 27).
+  const double body_scaled[3] = {body_now_[0] / settings_.mass_scaling, body_now_[1] / settings_.mass_scaling,
+                                 body_now_[2] / settings_.mass_scaling};
+  internal_energy_ += internal_work(m, v, a, body_scaled, tools_.empty() ? nullptr : fc, dt_, n);
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double inv_m = 1.0 / m[i];
@@ -1207,8 +1217,9 @@ void Simulation::prepare_run() {
     any_convection_ = std::any_of(hc, hc + count_, [](double c) { return c > 0.0; });
     evaluate_thermal_properties();  // for the first thermal time step
   }
-  // The domain a particle may not leave: the initial scene enlarged by its own size (at least
-  // 100 spacings) on every side.
+  // The domain a particle may not leave: the initial scene enlarged on every side by
+  // numerics.domain_margin, by default by its own size (at least 100 spacings). A particle
+  // beyond it was thrown out by an instability; a long extrudate needs a larger margin.
   const double* x = fields_.f64(field::position);
   for (int d = 0; d < 3; ++d) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -1221,6 +1232,8 @@ void Simulation::prepare_run() {
   }
   double size = 100.0 * spacing_;
   for (int d = 0; d < 3; ++d) size = std::max(size, domain_max_[d] - domain_min_[d]);
+  if (settings_.domain_margin_m >= 0.0) size = settings_.domain_margin_m;
+  domain_margin_used_m_ = size;
   for (int d = 0; d < 3; ++d) {
     domain_min_[d] -= size;
     domain_max_[d] += size;

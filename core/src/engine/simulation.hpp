@@ -25,6 +25,7 @@ struct CoreSettings {
   double h_over_dx = 1.3;
   double cfl = 0.3;
   double neighbour_skin = 0.2;  ///< Verlet skin, fraction of h
+  double domain_margin_m = -1.0;  ///< beyond the initial box: instability (-1: the box's size)
   bool gradient_correction = true;
   ArtificialViscosity viscosity;
   ArtificialStress artificial_stress;
@@ -150,6 +151,7 @@ class Simulation {
   std::vector<double> tool_friction_heat_J_, tool_heat_to_tool_J_;
   bool thermal_lists_stale_ = false;  ///< a reorder permuted the particles behind the thermal lists
   double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
+  double domain_margin_used_m_ = 0.0;
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
   /// Kinetic energy the process's constraints (prescribed velocities) put in, summed over the steps:
   /// part of the energy ledger of the instability check, like the tools' work.

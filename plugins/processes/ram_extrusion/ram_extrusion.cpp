@@ -118,8 +118,10 @@ class RamExtrusion final : public Process {
   }
 
   void before_step(ProcessContext& ctx) override {
-    // The ram moves down (-z) at the commanded speed.
-    (*ctx.tools)[ram_].axial_velocity_m_s = -ram_velocity_;
+    // The ram moves down (-z) at the commanded speed, f times faster under time scaling (eq. 25):
+    // the command stays the physical speed. Navier slip evaluates its wall stress at the simulated
+    // slip speed, so paste cases with navier_slip walls must keep f = 1 (docs/processes/ram_extrusion.md).
+    (*ctx.tools)[ram_].axial_velocity_m_s = -ram_velocity_ * ctx.time_scaling;
   }
 
   void measure(ProcessContext& ctx) override {
