@@ -628,6 +628,22 @@ TEST_F(CliInput, UnknownOptionAndCommand) {
 
 // --- a numerical blow-up: exit 3 ------------------------------------------------------------
 
+TEST_F(Cli, DomainMarginBoundsHowFarParticlesMayGo) {
+  // numerics.domain_margin = 0: the first particle that moves out of the initial bounding box (the
+  // billet bulging under the ram, within the first check at step 10) stops the run with exit 3, and
+  // the message names the option a long extrudate needs. The default (the scene's own size) lets
+  // the same 20 steps complete.
+  const fs::path tight = root() / "tight", loose = root() / "loose";
+  const Result r = run(concat({"run", kQuickCase, "--set", "numerics.domain_margin=0 mm", "--set", "run.max_steps=20",
+                               "--quiet", "--out", tight.string()},
+                              kTinyCase));
+  ASSERT_EQ(r.code, 3) << describe(r);
+  EXPECT_TRUE(contains(r.err, "particle left the domain") && contains(r.err, "numerics.domain_margin")) << r.err;
+  const Result ok = run(concat({"run", kQuickCase, "--set", "run.max_steps=20", "--quiet", "--out", loose.string()},
+                               kTinyCase));
+  EXPECT_EQ(ok.code, 0) << describe(ok);
+}
+
 TEST_F(Cli, InstabilityExitsWithThreeAndLocatesIt) {
   // cfl = 2 with a soft contact spring (whose time-step limit then no longer caps dt) and no
   // artificial viscosity is far beyond the leapfrog's stability limit: the energy ledger stops the
