@@ -51,7 +51,7 @@ TEST(ToolHeatDeposit, KernelWeightedAmongTheToolsParticlesWithinTheSupport) {
   std::vector<double> source(s.m.size(), 0.0);
   const double Q = 7.0;
   deposit_tool_heat({{0, 0, Q}}, s.nl, KernelKind::CubicSpline, kH, s.x.data(), s.m.data(), kS, s.body.data(),
-                    s.bodies, source.data());
+                    s.bodies, source.data(), s.m.size(), nullptr);
   // Heat in W of each particle: source (W/kg) x physical mass m / s.
   std::vector<double> q(s.m.size());
   for (std::size_t j = 0; j < q.size(); ++j) q[j] = source[j] * s.m[j] / kS;
@@ -80,7 +80,7 @@ TEST(ToolHeatDeposit, NearestToolParticleTakesAllWhenNoneIsWithinTheSupport) {
   std::vector<double> source(s.m.size(), 0.0);
   const double Q = 3.0;
   deposit_tool_heat({{1, 0, Q}}, s.nl, KernelKind::CubicSpline, kH, s.x.data(), s.m.data(), kS, s.body.data(),
-                    s.bodies, source.data());
+                    s.bodies, source.data(), s.m.size(), nullptr);
   EXPECT_NEAR(source[5] * s.m[5] / kS, Q, 1e-15 * Q);  // one product and one division
   for (std::size_t j = 0; j < source.size(); ++j)
     if (j != 5) EXPECT_EQ(source[j], 0.0) << j;

@@ -362,6 +362,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     }
     try {
       symmetry_ = Symmetry(settings_.symmetry);
+      thermal_symmetry_ = Symmetry(settings_.symmetry);
     } catch (const std::invalid_argument& e) {
       throw InputError(file, "/numerics/symmetry", e.what());
     }
@@ -433,9 +434,12 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       throw InputError(file, mat == 0 ? "/material" : "/materials/" + json_pointer_escape(material_keys_[mat]),
                        "the case has a \"thermal\" section but this material has no thermal properties "
                        "(give its specific_heat and conductivity)");
-    if (!spec.mechanics && symmetry_.active())
-      throw InputError(file, "/numerics/symmetry", "body '" + spec.name +
-                                                     "' is thermal-only: symmetry supports mechanical bodies only");
+    // A tool turning about z keeps a sector's symmetry but not a mirror plane's: a body attached to
+    // a tool may only be cut by a sector (theory section 11).
+    if (!spec.attached_to.empty() && symmetry_.active() && !settings_.symmetry.mirror_planes.empty())
+      throw InputError(file, "/numerics/symmetry", "body '" + spec.name + "' is attached to tool '" +
+                                                     spec.attached_to +
+                                                     "': a turning tool breaks mirror symmetry; use a sector only");
     if (!spec.mechanics && !settings_.thermal.enabled)
       throw InputError(file, "/process", "body '" + spec.name +
                                              "' is thermal-only, which needs a \"thermal\" section in the case");
@@ -935,35 +939,54 @@ void Simulation::thermal_rates() {
   // Neighbours of every particle: the mechanics lists serve when all particles are mechanical
   // (they were just updated); thermal-only bodies need lists of their own.
   const NeighbourList* nl = &neighbours_;
-  const bool sym = symmetry_.active();  // then every body is mechanical (checked in the constructor)
+  const bool sym = symmetry_.active();
+  // With symmetry the thermal lists hold ghosts. Mechanical bodies only: the mechanics' ghosts
+  // and lists serve. With thermal-only bodies: ghosts of every particle (thermal_symmetry_),
+  // their positions refreshed every step since attached bodies move with their tool (eq. 31).
+  const Symmetry& ghosts = sym && mechanical_count_ < n ? thermal_symmetry_ : symmetry_;
+  const double* xe = x;
   if (mechanical_count_ < n) {
     const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
-    if (thermal_lists_stale_ || thermal_neighbours_.needs_rebuild(x, n, search, skin))
+    const bool rebuild = thermal_lists_stale_ || thermal_neighbours_.needs_rebuild(x, n, search, skin);
+    if (sym) {
+      if (rebuild) thermal_symmetry_.select(x, n, search + skin);
+      ext_thermal_x_.resize(3 * (n + thermal_symmetry_.ghost_count()));
+      std::copy(x, x + 3 * n, ext_thermal_x_.begin());
+      thermal_symmetry_.fill_positions(ext_thermal_x_.data(), n);
+      xe = ext_thermal_x_.data();
+      if (rebuild) thermal_neighbours_.rebuild(xe, n + thermal_symmetry_.ghost_count(), search, skin, n);
+    } else if (rebuild) {
       thermal_neighbours_.rebuild(x, n, search, skin);
+    }
     thermal_lists_stale_ = false;
     nl = &thermal_neighbours_;
+  } else if (sym) {
+    xe = ext_x_.data();  // filled by mechanics_rates() this step; positions have not moved since
   }
-  // With symmetry the lists hold ghosts: x, V, T and k are read from extended arrays (eq. 31),
-  // which also keeps the cuts from counting as free surface in the convection area.
-  const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
+  // With symmetry x, V, T and k are read from extended arrays (eq. 31), which also keeps the cuts
+  // from counting as free surface in the convection area.
+  const std::size_t nt = sym ? n + ghosts.ghost_count() : n;
   thermal_volume_.resize(nt);
   conductivity_.resize(nt);
   double* volume = thermal_volume_.data();
   particle_volume(m, rho, volume, n);
   evaluate_thermal_properties();
-  const double* xe = x;
   const double* Te = T;
   if (sym) {
-    symmetry_.fill_scalars(volume, n);
-    symmetry_.fill_scalars(conductivity_.data(), n);
-    xe = ext_x_.data();  // filled by mechanics_rates() this step; positions have not moved since
-    Te = extend(ext_T_, T, 1);
+    ghosts.fill_scalars(volume, n);
+    ghosts.fill_scalars(conductivity_.data(), n);
+    ext_T_.resize(nt);
+    std::copy(T, T + n, ext_T_.begin());
+    ghosts.fill_scalars(ext_T_.data(), n);
+    Te = ext_T_.data();
   }
   // The tools' share of the friction heat into their attached particles near each contact (eq. 91),
-  // over the thermal lists (every particle's neighbours, just refreshed above).
+  // over the thermal lists (every particle's neighbours, just refreshed above); heat meant for a
+  // ghost goes to its source, the particle whose image it is.
   if (any_attached_ && heat_source)
-    deposit_tool_heat(contact_.tool_heat(), *nl, settings_.kernel, h_, x, m, settings_.mass_scaling,
-                      fields_.i64(field::body), bodies_, fields_.f64(field::heat_source));
+    deposit_tool_heat(contact_.tool_heat(), *nl, settings_.kernel, h_, xe, m, settings_.mass_scaling,
+                      fields_.i64(field::body), bodies_, fields_.f64(field::heat_source), n,
+                      sym ? ghosts.sources().data() : nullptr);
   std::fill(heat_W_.begin(), heat_W_.end(), 0.0);
   heat_conduction(*nl, settings_.kernel, h_, xe, volume, Te, conductivity_.data(), heat_W_.data(), n);  // eq. 20
   if (any_convection_) {
@@ -1089,8 +1112,12 @@ void Simulation::step() {
     double* x = fields_.f64(field::position);
     const double* ref = fields_.f64(kToolReferencePosition);
     for (const BodyRange& b : bodies_)
-      if (b.attached_tool >= 0)
+      if (b.attached_tool >= 0) {
         place_on_tool(tools_[static_cast<std::size_t>(b.attached_tool)], ref + 3 * b.first, x + 3 * b.first, b.count);
+        // In a sector, particles the tool turned across a cut re-enter through its image; the
+        // reference positions turn with them (a rotation about z commutes with the pose, eq. 90).
+        if (symmetry_.active()) symmetry_.wrap(fields_, b.first, b.first + b.count);
+      }
   }
   // Friction heat of each tool and the share its thermal particles took, summed over the steps:
   // the ledger the heat content of the bodies is checked against (docs/verification.md section 13).

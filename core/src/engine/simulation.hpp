@@ -87,7 +87,7 @@ class Simulation {
   std::size_t memory_bytes() const {
     return fields_.bytes() + neighbours_.bytes() + contact_.bytes() +
            (scratch_.capacity() + yield_scratch_.capacity() + ext_x_.capacity() + ext_v_.capacity() +
-            ext_m_.capacity() + ext_rho_.capacity() + ext_T_.capacity()) *
+            ext_m_.capacity() + ext_rho_.capacity() + ext_T_.capacity() + ext_thermal_x_.capacity()) *
                sizeof(double);
   }
   /// The particles are reordered by cell (Morton order within each body, engine/reorder.hpp)
@@ -136,6 +136,10 @@ class Simulation {
   // pair passes read; unused (empty) without symmetry.
   Symmetry symmetry_;
   std::vector<double> ext_x_, ext_v_, ext_m_, ext_rho_, ext_T_;
+  /// With symmetry and thermal-only bodies: the ghosts of every particle (mechanical and
+  /// thermal-only) for the thermal lists, and their extended positions (eq. 31).
+  Symmetry thermal_symmetry_;
+  std::vector<double> ext_thermal_x_;
   /// Copies the real part [0, n) of `src` into ext and fills the ghosts; returns ext.data().
   double* extend(std::vector<double>& ext, const double* src, int components, bool position = false);
   double wave_speed_ = 0.0;  ///< fastest mechanical wave, mass scaling included

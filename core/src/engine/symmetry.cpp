@@ -124,11 +124,11 @@ void Symmetry::transform_tensor(const Mat& Q, const double* in, double* out) {
     for (int c = 0; c < 3; ++c) out[3 * r + c] = B(r, c);
 }
 
-std::size_t Symmetry::wrap(FieldRegistry& fields, std::size_t n) const {
+std::size_t Symmetry::wrap(FieldRegistry& fields, std::size_t first, std::size_t last) const {
   if (!active()) return 0;
   double* x = fields.f64(field::position);
   std::vector<std::pair<std::size_t, std::size_t>> moves;  // particle, image
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = first; i < last; ++i) {
     const Vec xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
     if (inside(xi)) continue;
     std::size_t best = 0;

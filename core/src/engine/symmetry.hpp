@@ -58,7 +58,9 @@ class Symmetry {
   /// that maps it inside is applied to all of its fields (position: Q x + t; other 3-component
   /// fields Q v; 6-component symmetric tensors Q S Q^T; 9-component tensors Q A Q^T; other
   /// shapes unchanged). Returns the number of particles moved.
-  std::size_t wrap(FieldRegistry& fields, std::size_t n) const;
+  std::size_t wrap(FieldRegistry& fields, std::size_t n) const { return wrap(fields, 0, n); }
+  /// The same for the particles [first, last) (e.g. a tool-attached thermal body, every step).
+  std::size_t wrap(FieldRegistry& fields, std::size_t first, std::size_t last) const;
 
   /// Chooses the ghosts: every image of a real particle closer than `range` (kernel support +
   /// skin) to the region, except images that coincide with their source (a particle on a cut).

@@ -7,8 +7,11 @@ namespace sphforge {
 
 void deposit_tool_heat(const std::vector<ToolHeatRecord>& records, const NeighbourList& nl, KernelKind kernel,
                        double h, const double* x, const double* mass, double mass_scaling,
-                       const std::int64_t* body, const std::vector<BodyRange>& bodies, double* heat_source) {
+                       const std::int64_t* body, const std::vector<BodyRange>& bodies, double* heat_source,
+                       std::size_t n, const std::uint32_t* ghost_source) {
   const double support = kernel_support_radius(h), support2 = support * support;
+  // The real particle behind a list entry (a ghost's source, eq. 31).
+  auto real = [&](std::size_t j) -> std::size_t { return ghost_source && j >= n ? ghost_source[j - n] : j; };
   // Sequential over the contacts (a small fraction of the particles): a contact scatters into
   // several tool particles and neighbouring contacts share them, and the fixed order keeps the
   // sums bit for bit independent of the thread count.
@@ -24,17 +27,17 @@ void deposit_tool_heat(const std::vector<ToolHeatRecord>& records, const Neighbo
     double wsum = 0.0;
     for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
       const std::size_t j = *p;
-      if (bodies[static_cast<std::size_t>(body[j])].attached_tool != tool) continue;
+      if (bodies[static_cast<std::size_t>(body[real(j)])].attached_tool != tool) continue;
       const double r2 = r2_to(j);
       if (r2 < support2) wsum += kernel_value(kernel, std::sqrt(r2), h);
     }
     if (wsum > 0.0) {
       const double scale = rec.heat_W / wsum;
       for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
-        const std::size_t j = *p;
-        if (bodies[static_cast<std::size_t>(body[j])].attached_tool != tool) continue;
+        const std::size_t j = *p, r = real(j);
+        if (bodies[static_cast<std::size_t>(body[r])].attached_tool != tool) continue;
         const double r2 = r2_to(j);
-        if (r2 < support2) heat_source[j] += scale * kernel_value(kernel, std::sqrt(r2), h) * mass_scaling / mass[j];
+        if (r2 < support2) heat_source[r] += scale * kernel_value(kernel, std::sqrt(r2), h) * mass_scaling / mass[r];
       }
       continue;
     }

@@ -19,8 +19,12 @@ namespace sphforge {
 /// particle of the tool's bodies takes all of Q. The weights are normalised, so the heat added is
 /// Q to round-off. `nl`: lists over all particles (the thermal lists). Adds Q_j / m_j (physical mass
 /// m / mass_scaling) to heat_source (W/kg).
+/// With symmetry the lists also hold ghosts j >= n (positions in x, which is then the extended
+/// array): `ghost_source[j - n]` is the real particle a ghost images, and it receives the ghost's
+/// share (its image contact heats the source the same way). ghost_source null: no ghosts.
 void deposit_tool_heat(const std::vector<ToolHeatRecord>& records, const NeighbourList& nl, KernelKind kernel,
                        double h, const double* x, const double* mass, double mass_scaling,
-                       const std::int64_t* body, const std::vector<BodyRange>& bodies, double* heat_source);
+                       const std::int64_t* body, const std::vector<BodyRange>& bodies, double* heat_source,
+                       std::size_t n, const std::uint32_t* ghost_source);
 
 }  // namespace sphforge
