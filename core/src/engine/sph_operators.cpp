@@ -167,14 +167,18 @@ template <KernelKind K, bool Corrected, bool Failure>
 void velocity_gradient_generic(const GradientArgs& g, double h) {
   const PairKernel<K> kernel(h);
 #pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
+  for (std::size_t i = 0; i < g.n; ++i)
+    if (Failure && g.failure.failed[i] != 0.0) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
+    else velocity_gradient_particle<K, Corrected, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
 }
 
 template <KernelKind K, bool Corrected, bool Failure>
 SPHFORGE_TARGET_AVX2 void velocity_gradient_avx2(const GradientArgs& g, double h) {
   const PairKernel<K> kernel(h);
 #pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
+  for (std::size_t i = 0; i < g.n; ++i)
+    if (Failure && g.failure.failed[i] != 0.0) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
+    else velocity_gradient_particle<K, Corrected, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
 }
 
 template <KernelKind K, bool Corrected, bool Failure>
@@ -294,14 +298,18 @@ template <KernelKind K, int Exponent, bool Failure>
 void momentum_generic(const MomentumArgs& g) {
   const PairKernel<K> kernel(g.h);
 #pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i) momentum_particle<K, Exponent, Failure>(g, kernel, i);
+  for (std::size_t i = 0; i < g.n; ++i)
+    if (Failure && g.failure.failed[i] != 0.0) momentum_particle<K, Exponent, Failure>(g, kernel, i);
+    else momentum_particle<K, Exponent, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
 }
 
 template <KernelKind K, int Exponent, bool Failure>
 SPHFORGE_TARGET_AVX2 void momentum_avx2(const MomentumArgs& g) {
   const PairKernel<K> kernel(g.h);
 #pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i) momentum_particle<K, Exponent, Failure>(g, kernel, i);
+  for (std::size_t i = 0; i < g.n; ++i)
+    if (Failure && g.failure.failed[i] != 0.0) momentum_particle<K, Exponent, Failure>(g, kernel, i);
+    else momentum_particle<K, Exponent, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
 }
 
 template <KernelKind K, int Exponent, bool Failure>
