@@ -9,13 +9,24 @@
 // viscosity is off for the separating pair and there is no other term).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "engine/bond_failure.hpp"
 #include "engine/neighbours.hpp"
+#include "engine/simulation.hpp"
 #include "engine/sph_operators.hpp"
+#include "sphforge/case_file.hpp"
+#include "sphforge/errors.hpp"
+#include "sphforge/fields.hpp"
+#include "sphforge/plugin_loader.hpp"
 
 namespace {
 
@@ -135,6 +146,57 @@ TEST(BondFailure, PairWithOneIntactParticleIsIntact) {
   const TwoParticles pair(200e6, 1.0, 0.0);  // tension, but only one particle failed (eq. 111)
   expect_same(pair.gradient(false), pair.gradient(true));
   expect_same(pair.acceleration(false), pair.acceleration(true));
+}
+
+// The case-file interface (docs/failure.md): the material's failure_plastic_strain switches the
+// mechanism on; without it the scene has no `failed` field and no bond_failure pass.
+const std::string kBarCase = std::string(SPHFORGE_SOURCE_DIR) + "/cases/verification/notched_bar_failure.json";
+
+bool has_pass(const Simulation& sim, const std::string& name) {
+  return std::any_of(sim.passes().begin(), sim.passes().end(), [&](const PassInfo& p) { return p.name == name; });
+}
+
+TEST(BondFailure, OnlyAMaterialWithAFailureStrainAddsTheFieldAndThePass) {
+  PluginLoader loader({SPHFORGE_PLUGIN_BUILD_DIR});
+  {
+    Simulation sim(load_case(kBarCase, {"material.failure_plastic_strain=0"}), loader);
+    EXPECT_FALSE(sim.fields().declared(field::failed));
+    EXPECT_FALSE(has_pass(sim, "bond_failure"));
+  }
+  {
+    Simulation sim(load_case(kBarCase, {"material.failure_plastic_strain=0.4"}), loader);
+    EXPECT_TRUE(sim.fields().allocated(field::failed));
+    EXPECT_TRUE(has_pass(sim, "bond_failure"));
+  }
+  // johnson_cook takes the same parameter (the shared helper of plugins/materials/common/failure.hpp).
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(kBarCase));
+  doc["material"] = {{"plugin", "johnson_cook"},      {"density", "7850 kg/m^3"},
+                     {"youngs_modulus", "200 GPa"},   {"poisson_ratio", 0.3},
+                     {"A", "300 MPa"},                {"B", "500 MPa"},
+                     {"n", 0.3},                      {"reference_temperature", "293 K"},
+                     {"melting_temperature", "1800 K"}, {"failure_plastic_strain", 0.4}};
+  const std::filesystem::path jc = std::filesystem::current_path() / "bond_failure_johnson_cook.json";
+  std::ofstream(jc) << doc.dump(2);
+  {
+    Simulation sim(load_case(jc.string(), {}), loader);
+    EXPECT_TRUE(sim.fields().allocated(field::failed));
+    EXPECT_TRUE(has_pass(sim, "bond_failure"));
+  }
+  {
+    Simulation sim(load_case(jc.string(), {"material.failure_plastic_strain=0"}), loader);
+    EXPECT_FALSE(sim.fields().declared(field::failed));
+  }
+}
+
+TEST(BondFailure, NegativeFailureStrainIsAnInputErrorAtItsPointer) {
+  PluginLoader loader({SPHFORGE_PLUGIN_BUILD_DIR});
+  try {
+    Simulation sim(load_case(kBarCase, {"material.failure_plastic_strain=-0.1"}), loader);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), kBarCase);
+    EXPECT_EQ(e.pointer(), "/material/failure_plastic_strain");
+  }
 }
 
 }  // namespace
