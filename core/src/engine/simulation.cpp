@@ -824,14 +824,20 @@ void Simulation::mechanics_rates() {
   double* artificial = with_artificial_stress ? sigma_over_rho2 + 6 * nt : nullptr;
   // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
   particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
-  // Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge a
-  // broken bond's tension from the stress of the step's start, so that they leave out the same pairs.
+  // Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge the
+  // bonds from the flags and the stresses of the step's start, copied here, so that they leave out the
+  // same pairs (the material sets new flags between the two passes).
   BondFailure failure;
   if (const double* failed = fields_.f64_if(field::failed)) {
     bond_stress_.resize(6 * nt);
     cauchy_stress(p, S, bond_stress_.data(), n);
     if (sym) symmetry_.fill_symmetric(bond_stress_.data(), n);
-    failure = {sym ? extend(ext_failed_, failed, 1) : failed, bond_stress_.data()};
+    if (sym) {
+      extend(ext_failed_, failed, 1);
+    } else {
+      ext_failed_.assign(failed, failed + n);
+    }
+    failure = {ext_failed_.data(), bond_stress_.data()};
   }
   velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, corrected, L,
                     fields_.f64_if(field::gradient_condition), correction, n, failure);
