@@ -831,8 +831,8 @@ void Simulation::mechanics_rates() {
   if (const double* failed = fields_.f64_if(field::failed)) {
     bond_stress_.resize(6 * nt);
     cauchy_stress(p, S, bond_stress_.data(), n);
-    if (sym) symmetry_.fill_symmetric(bond_stress_.data(), n);
     if (sym) {
+      symmetry_.fill_symmetric(bond_stress_.data(), n);
       extend(ext_failed_, failed, 1);
     } else {
       ext_failed_.assign(failed, failed + n);

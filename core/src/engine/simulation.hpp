@@ -136,8 +136,8 @@ class Simulation {
   // pair passes read; unused (empty) without symmetry.
   Symmetry symmetry_;
   std::vector<double> ext_x_, ext_v_, ext_m_, ext_rho_, ext_T_;
-  /// Bond failure (scenes with a failure criterion only): sigma at the step's start and the
-  /// ghosts' failed flags (eq. 112).
+  /// Bond failure (scenes with a failure criterion only): sigma and the failed flags of the step's
+  /// start, ghosts included (eq. 112).
   std::vector<double> bond_stress_, ext_failed_;
   /// Copies the real part [0, n) of `src` into ext and fills the ghosts; returns ext.data().
   double* extend(std::vector<double>& ext, const double* src, int components, bool position = false);
