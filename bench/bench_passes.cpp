@@ -89,6 +89,40 @@ void BM_MomentumWithArtificialStress(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
 }
 
+// The same two pair passes with the bond-failure rule (docs/theory.md eqs. 112-114) active: every
+// other particle failed, so about a quarter of the pairs are broken bonds and the rule is decided on
+// every pair. Compare with the two benchmarks above: the price a scene with a failure criterion pays
+// (a scene without one runs exactly the loops above).
+struct FailureState {
+  std::vector<double> failed, sigma;
+  explicit FailureState(const Block& b) : failed(b.n, 0.0), sigma(6 * b.n) {
+    for (std::size_t i = 0; i < b.n; i += 2) failed[i] = 1.0;
+    cauchy_stress(b.p.data(), b.S.data(), sigma.data(), b.n);
+  }
+  BondFailure rule() const { return {failed.data(), sigma.data()}; }
+};
+
+void BM_VelocityGradientCorrectedWithFailure(benchmark::State& state) {
+  Block& b = block(static_cast<int>(state.range(0)));
+  const FailureState f(b);
+  for (auto _ : state)
+    velocity_gradient(b.nl, KernelKind::CubicSpline, b.h, b.x.data(), b.v.data(), b.volume.data(), true, b.L.data(),
+                      nullptr, b.correction.data(), b.n, f.rule());
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
+}
+
+void BM_MomentumWithArtificialStressWithFailure(benchmark::State& state) {
+  Block& b = block(static_cast<int>(state.range(0)));
+  const FailureState f(b);
+  ArtificialStress as;
+  as.w_dx = kernel_value(KernelKind::CubicSpline, b.dx, b.h);
+  for (auto _ : state)
+    momentum_rate(b.nl, KernelKind::CubicSpline, b.h, ArtificialViscosity{}, 50.0, b.x.data(), b.v.data(),
+                  b.m.data(), b.rho.data(), b.volume.data(), b.stress_c.data(), as, b.R.data(), b.a.data(), b.n,
+                  f.rule());
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
+}
+
 void BM_JaumannRotation(benchmark::State& state) {
   Block& b = block(static_cast<int>(state.range(0)));
   for (auto _ : state) jaumann_rotation(b.L.data(), 1e-9, b.S.data(), b.n);
@@ -193,6 +227,8 @@ void BM_MaterialJohnsonCookBrass(benchmark::State& state) {
 BENCHMARK(BM_NeighbourBuild)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_VelocityGradientCorrected)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MomentumWithArtificialStress)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_VelocityGradientCorrectedWithFailure)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MomentumWithArtificialStressWithFailure)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_JaumannRotation)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
