@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 
+#include "sphforge/errors.hpp"
 #include "sphforge/plugin.hpp"
 
 namespace {
@@ -28,7 +29,7 @@ std::vector<double> lengths(const ParamValues& p, const std::string& name) {
 
 class FrictionExtrusion final : public Process {
  public:
-  explicit FrictionExtrusion(const ParamValues& p) {
+  explicit FrictionExtrusion(const ParamValues& p) : file_(p.file()) {
     radius_ = 0.5 * p.number("billet_diameter");
     height_ = p.number("billet_height");
     orifice_radius_ = 0.5 * p.number("orifice_diameter");
@@ -177,11 +178,13 @@ class FrictionExtrusion final : public Process {
     const std::int64_t* ids = f.i64(field::id);
     const std::int64_t* body = f.i64(field::body);
     T_ = f.f64_if(field::temperature) != nullptr;
+    // The billet is made of the case's "material" (build() gives no key): its section must request
+    // the plastic rate, and the case must be thermal (user errors, exit code 2).
     if (!f.f64_if("plastic_strain_rate"))
-      throw std::invalid_argument(
-          "friction_extrusion: the billet material must write \"plastic_strain_rate\" (material.output_fields): "
-          "the Zener-Hollomon field and the plastic heat rate need it");
-    if (!T_) throw std::invalid_argument("friction_extrusion: the case needs a \"thermal\" section");
+      throw InputError(file_, "/material/output_fields",
+                       "friction_extrusion needs \"plastic_strain_rate\" in the billet material's output_fields "
+                       "(Zener-Hollomon field, plastic heat rate)");
+    if (!T_) throw InputError(file_, "/thermal", "friction_extrusion needs a \"thermal\" section");
     auto body_index = [&](const std::string& name) {
       for (std::size_t b = 0; b < ctx.bodies->size(); ++b)
         if ((*ctx.bodies)[b].name == name) return static_cast<long long>(b);
@@ -466,6 +469,7 @@ class FrictionExtrusion final : public Process {
     double t, force, velocity;
   };
 
+  std::string file_;
   double radius_, height_, orifice_radius_, orifice_length_, edge_fillet_, face_depth_, spacing_, stroke_;
   double die_thickness_, wall_thickness_, bottom_thickness_, h_die_, h_bottom_, h_other_, cooled_T_, beta_;
   double activation_, target_, band_, metrics_start_, sample_interval_;
