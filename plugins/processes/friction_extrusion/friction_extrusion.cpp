@@ -236,6 +236,8 @@ class FrictionExtrusion final : public Process {
     index_of_id_.clear();  // forces the first lookup
     distance_.resize(ctx.mechanical_count);
     normal_.resize(3 * ctx.mechanical_count);
+    container_distance_.resize(ctx.mechanical_count);
+    container_normal_.resize(3 * ctx.mechanical_count);
     refresh(f);
   }
 
@@ -278,6 +280,10 @@ class FrictionExtrusion final : public Process {
     const double* rate = f.f64("plastic_strain_rate");
     double* Z = f.f64("zener_hollomon");
     die.signed_distance(n, x, distance_.data(), normal_.data(), spacing_);
+    // The contact_force field sums every tool's force on a particle: where a particle touches the
+    // container too (the corner ring), the container's normal force would count as die friction, so
+    // those particles are left out of eq. 104 (the core's die_friction_heat_W has them, per tool).
+    (*ctx.tools)[container_].signed_distance(n, x, container_distance_.data(), container_normal_.data(), spacing_);
     const Vec vz = die.surface_velocity(Vec::Zero());  // axial part (the spin adds w x r below)
     const double w = die.angular_velocity_rad_s, q_over_r = activation_ / kGasConstant, dx = spacing_;
     double zmax = -std::numeric_limits<double>::infinity(), t_sum = 0.0, t_count = 0.0, q_f = 0.0, q_p = 0.0;
@@ -298,6 +304,7 @@ class FrictionExtrusion final : public Process {
       if (fi[0] * fi[0] + fi[1] * fi[1] + fi[2] * fi[2] == 0.0) continue;
       t_sum += T[i];
       t_count += 1.0;
+      if (container_distance_[i] < 0.5 * dx * (1.0 + 1e-6)) continue;
       const double* nn = normal_.data() + 3 * i;
       const double vr[3] = {v[3 * i] + w * xi[1] - vz[0], v[3 * i + 1] - w * xi[0] - vz[1], v[3 * i + 2] - vz[2]};
       const double vn = vr[0] * nn[0] + vr[1] * nn[1] + vr[2] * nn[2];
@@ -483,7 +490,7 @@ class FrictionExtrusion final : public Process {
   std::int64_t die_tc_id_ = -1;
   std::vector<std::int64_t> cooled_ids_;
   std::vector<std::size_t> cooled_index_, index_of_id_;
-  std::vector<double> distance_, normal_;
+  std::vector<double> distance_, normal_, container_distance_, container_normal_;
   std::vector<Sample> samples_;
   double next_sample_ = 0.0;
   // Commands (process units) and measurements.
