@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def load(run):
     with open(f"{run}/history.csv", newline="") as f:
-        rows = list(csv.DictReader(f))
+        rows = [r for r in csv.DictReader(f) if None not in r.values()]  # a run still writing: last row partial
     return {k: [float(r[k]) if r[k] not in ("", "nan") else float("nan") for r in rows] for k in rows[0]}
 
 

@@ -108,9 +108,14 @@ class FrictionExtrusion final : public Process {
     container_ = scene.add_tool(RigidTool("container", {{0.0, 0.0}, {radius_, 0.0}, {radius_, top}}));
     // Die: face walked inwards (material below) from the container wall to the orifice edge,
     // optionally rising by face_cone_depth towards the orifice (a concave conical face), then up the
-    // orifice wall (material at r < r_o). The orifice edge is rounded by an exact arc (eq. 41).
+    // orifice wall (material at r < r_o), then out along the die's top (material above): a closed
+    // ring. An open bore end let the rod, once longer than the bore, have particles just above the end
+    // and beside the bore counted as inside the wall (negative distance): the penalty shot one out at
+    // 175 m/s (the first coarse full run, stopped by the instability check at 69 s of process).
+    // The orifice edge is rounded by an exact arc (eq. 41).
     std::vector<Eigen::Vector2d> die = {{radius_, 0.0}, {orifice_radius_, face_depth_},
-                                        {orifice_radius_, face_depth_ + orifice_length_}};
+                                        {orifice_radius_, face_depth_ + orifice_length_},
+                                        {radius_, face_depth_ + orifice_length_}};
     ToolProfile profile(die);
     if (edge_fillet_ > 0.0) profile = profile.with_fillets(edge_fillet_, {1});
     RigidTool tool("die", profile);
