@@ -94,6 +94,9 @@ inline constexpr const char* heat_source = "heat_source";        // W/kg, plasti
 inline constexpr const char* convection_coefficient = "convection_coefficient";  // W/(m^2 K), free surfaces
 inline constexpr const char* plastic_strain = "plastic_strain";  // 1
 inline constexpr const char* von_mises_stress = "von_mises_stress";  // Pa
+// 1 where the particle's material criterion has failed it (latched), else 0; declared by a material
+// that has a failure criterion, and read by the core's bond rule (docs/failure.md, theory eq. 110).
+inline constexpr const char* failed = "failed";
 }  // namespace field
 
 }  // namespace sphforge

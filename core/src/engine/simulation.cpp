@@ -533,6 +533,11 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       for (const FieldInfo& f : materials_[mat]->fields()) material_writes.push_back(f);
       passes_.push_back({"material:" + material_names[mat], material_reads, material_writes});
     }
+    // Bond failure (theory section 16): only when a material has a failure criterion (declares `failed`).
+    bool any_failure = false;
+    for (std::size_t mat : used)
+      for (const FieldInfo& f : materials_[mat]->fields()) any_failure = any_failure || f.name == field::failed;
+    if (any_failure) passes_.push_back({"bond_failure", {FieldInfo{field::failed, 1, "1"}, pressure, stress}, {}});
     if (settings_.artificial_stress.epsilon > 0.0)
       passes_.push_back({"artificial_stress", {pressure, stress, density}, {}});
     passes_.push_back({"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}});
@@ -819,8 +824,17 @@ void Simulation::mechanics_rates() {
   double* artificial = with_artificial_stress ? sigma_over_rho2 + 6 * nt : nullptr;
   // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
   particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
+  // Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge a
+  // broken bond's tension from the stress of the step's start, so that they leave out the same pairs.
+  BondFailure failure;
+  if (const double* failed = fields_.f64_if(field::failed)) {
+    bond_stress_.resize(6 * nt);
+    cauchy_stress(p, S, bond_stress_.data(), n);
+    if (sym) symmetry_.fill_symmetric(bond_stress_.data(), n);
+    failure = {sym ? extend(ext_failed_, failed, 1) : failed, bond_stress_.data()};
+  }
   velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, corrected, L,
-                    fields_.f64_if(field::gradient_condition), correction, n);
+                    fields_.f64_if(field::gradient_condition), correction, n, failure);
   continuity_density_rate(L, rho, drho, n);
   // The density advances here, before the material's equation of state, so that the pressure and
   // the deviatoric stress both belong to the new configuration x^n (eq. 14). Updating it after
@@ -875,7 +889,7 @@ void Simulation::mechanics_rates() {
   // The volumes are those of the step's start (before the density update): the same V_j the
   // corrected gradient used, as the energy consistency of eq. 7 requires.
   momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, xe, ve, me, rho_e, volume, stress_c,
-                settings_.artificial_stress, artificial, a, n);
+                settings_.artificial_stress, artificial, a, n, failure);
   // Internal energy: the work done against the internal forces (elastic storage, plastic and
   // viscous dissipation), with the step-centred velocity so that the energy balance of a free
   // body closes to round-off (eq. 27).

@@ -86,7 +86,8 @@ class Simulation {
   std::size_t memory_bytes() const {
     return fields_.bytes() + neighbours_.bytes() + contact_.bytes() +
            (scratch_.capacity() + yield_scratch_.capacity() + ext_x_.capacity() + ext_v_.capacity() +
-            ext_m_.capacity() + ext_rho_.capacity() + ext_T_.capacity()) *
+            ext_m_.capacity() + ext_rho_.capacity() + ext_T_.capacity() + bond_stress_.capacity() +
+            ext_failed_.capacity()) *
                sizeof(double);
   }
   /// The particles are reordered by cell (Morton order within each body, engine/reorder.hpp)
@@ -135,6 +136,9 @@ class Simulation {
   // pair passes read; unused (empty) without symmetry.
   Symmetry symmetry_;
   std::vector<double> ext_x_, ext_v_, ext_m_, ext_rho_, ext_T_;
+  /// Bond failure (scenes with a failure criterion only): sigma at the step's start and the
+  /// ghosts' failed flags (eq. 112).
+  std::vector<double> bond_stress_, ext_failed_;
   /// Copies the real part [0, n) of `src` into ext and fills the ghosts; returns ext.data().
   double* extend(std::vector<double>& ext, const double* src, int components, bool position = false);
   double wave_speed_ = 0.0;  ///< fastest mechanical wave, mass scaling included

@@ -77,9 +77,12 @@ struct GradientArgs {
   const double *x, *v, *volume;
   double *L, *condition, *correction;
   std::size_t n;
+  BondFailure failure;  // failed == null: no failure in the scene
 };
 
-template <KernelKind K, bool Corrected>
+// Failure: the loops with the bond rule of eq. 112 are separate instances, so that a scene without
+// failure runs exactly the loops it ran before (no load, no multiplication, no branch).
+template <KernelKind K, bool Corrected, bool Failure>
 SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, const PairKernel<K>& kernel,
                                                        std::size_t i) {
   const double* x = g.x;
@@ -93,12 +96,21 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
   const double vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
   const std::uint32_t* const nb = g.nl->begin(i);
   const std::ptrdiff_t count = g.nl->end(i) - nb;
+  double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
+  if constexpr (Failure) {
+    for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
+    failed_i = g.failure.failed[i];
+  }
 #pragma omp simd reduction(+ : l0, l1, l2, l3, l4, l5, l6, l7, l8, m0, m1, m2, m3, m4, m5)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const std::size_t j = nb[k];
     const double x0 = xi0 - x[3 * j], x1 = xi1 - x[3 * j + 1], x2 = xi2 - x[3 * j + 2];
     const double r2 = x0 * x0 + x1 * x1 + x2 * x2;
-    const double f = kernel.factor(r2) * volume[j];  // V_j (dW/dr)/r; 0 beyond the support
+    double f = kernel.factor(r2) * volume[j];  // V_j (dW/dr)/r; 0 beyond the support
+    // A broken bond under tension leaves the gradient and the correction matrix alike (eq. 113):
+    // the particle then sees its side of the crack as a free surface.
+    if constexpr (Failure)
+      f *= bond_factor(failed_i, g.failure.failed[j], sigma_i, g.failure.stress + 6 * j, x0, x1, x2);
     const double d0 = (v[3 * j] - vi0) * f, d1 = (v[3 * j + 1] - vi1) * f, d2 = (v[3 * j + 2] - vi2) * f;
     l0 += d0 * x0, l1 += d0 * x1, l2 += d0 * x2;
     l3 += d1 * x0, l4 += d1 * x1, l5 += d1 * x2;
@@ -151,26 +163,33 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
   for (int c = 0; c < 9; ++c) out[c] = l[c];
 }
 
-template <KernelKind K, bool Corrected>
+template <KernelKind K, bool Corrected, bool Failure>
 void velocity_gradient_generic(const GradientArgs& g, double h) {
   const PairKernel<K> kernel(h);
 #pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i) velocity_gradient_particle<K, Corrected>(g, kernel, i);
+  for (std::size_t i = 0; i < g.n; ++i) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
 }
 
-template <KernelKind K, bool Corrected>
+template <KernelKind K, bool Corrected, bool Failure>
 SPHFORGE_TARGET_AVX2 void velocity_gradient_avx2(const GradientArgs& g, double h) {
   const PairKernel<K> kernel(h);
 #pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i) velocity_gradient_particle<K, Corrected>(g, kernel, i);
+  for (std::size_t i = 0; i < g.n; ++i) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
+}
+
+template <KernelKind K, bool Corrected, bool Failure>
+void velocity_gradient_run(const GradientArgs& g, double h) {
+  if (cpu_has_avx2_fma()) velocity_gradient_avx2<K, Corrected, Failure>(g, h);
+  else velocity_gradient_generic<K, Corrected, Failure>(g, h);
 }
 
 template <KernelKind K, bool Corrected>
 void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, const double* v,
-                            const double* volume, double* L, std::size_t n, double* condition, double* correction) {
-  const GradientArgs g{&nl, x, v, volume, L, condition, correction, n};
-  if (cpu_has_avx2_fma()) velocity_gradient_avx2<K, Corrected>(g, h);
-  else velocity_gradient_generic<K, Corrected>(g, h);
+                            const double* volume, double* L, std::size_t n, double* condition, double* correction,
+                            const BondFailure& failure) {
+  const GradientArgs g{&nl, x, v, volume, L, condition, correction, n, failure};
+  if (failure.failed) velocity_gradient_run<K, Corrected, true>(g, h);
+  else velocity_gradient_run<K, Corrected, false>(g, h);
 }
 
 struct MomentumArgs {
@@ -179,11 +198,12 @@ struct MomentumArgs {
   double* acc;
   std::size_t n;
   double h, eta2h2, alpha_c, beta, inv_w_dx, exponent;
+  BondFailure failure;  // failed == null: no failure in the scene
 };
 
 /// Exponent: 0 without artificial stress, 4 for the usual n = 4 (multiplications), -1 for any
-/// other n (pow).
-template <KernelKind K, int Exponent>
+/// other n (pow). Failure: the bond rule of eq. 112 (a separate instance, see the gradient).
+template <KernelKind K, int Exponent, bool Failure>
 SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
   constexpr bool kStress = Exponent != 0;
   const double* x = g.x;
@@ -204,6 +224,11 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   double a0 = 0, a1 = 0, a2 = 0;
   const std::uint32_t* const nb = g.nl->begin(i);
   const std::ptrdiff_t count = g.nl->end(i) - nb;
+  double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
+  if constexpr (Failure) {
+    for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
+    failed_i = g.failure.failed[i];
+  }
 #pragma omp simd reduction(+ : a0, a1, a2)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const std::size_t j = nb[k];
@@ -218,7 +243,14 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
     const double* aj = stress_c + 9 * j;
     double a[9];
     for (int c = 0; c < 9; ++c) a[c] = ai[c] + aj[c];
-    const double vg = volume[j] * gw * inv_rhoi;
+    double vg = volume[j] * gw * inv_rhoi;
+    // k_ij of eq. 112: a broken bond under tension carries no stress (eq. 114), the same pairs the
+    // velocity gradient left out (energy consistency, eq. 113).
+    double keep = 1.0;
+    if constexpr (Failure) {
+      keep = bond_factor(failed_i, g.failure.failed[j], sigma_i, g.failure.stress + 6 * j, x0, x1, x2);
+      vg *= keep;
+    }
     a0 += vg * (a[0] * x0 + a[1] * x1 + a[2] * x2);
     a1 += vg * (a[3] * x0 + a[4] * x1 + a[5] * x2);
     a2 += vg * (a[6] * x0 + a[7] * x1 + a[8] * x2);
@@ -242,6 +274,7 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
                        2.0 * ((Ri[3] + Rj[3]) * x0 * x1 + (Ri[4] + Rj[4]) * x1 * x2 + (Ri[5] + Rj[5]) * x0 * x2);
       // r2 > 0 for distinct particles; the floor only keeps coincident ones (f = 1, gw = 0) finite.
       s = f * q / std::max(r2, 1e-300);
+      if constexpr (Failure) s *= keep;  // nor the artificial stress (eq. 114)
     }
     // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
     const double vij_xij = (vi0 - v[3 * j]) * x0 + (vi1 - v[3 * j + 1]) * x1 + (vi2 - v[3 * j + 2]) * x2;
@@ -257,24 +290,30 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   g.acc[3 * i + 2] = a2;
 }
 
-template <KernelKind K, int Exponent>
+template <KernelKind K, int Exponent, bool Failure>
 void momentum_generic(const MomentumArgs& g) {
   const PairKernel<K> kernel(g.h);
 #pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i) momentum_particle<K, Exponent>(g, kernel, i);
+  for (std::size_t i = 0; i < g.n; ++i) momentum_particle<K, Exponent, Failure>(g, kernel, i);
 }
 
-template <KernelKind K, int Exponent>
+template <KernelKind K, int Exponent, bool Failure>
 SPHFORGE_TARGET_AVX2 void momentum_avx2(const MomentumArgs& g) {
   const PairKernel<K> kernel(g.h);
 #pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i) momentum_particle<K, Exponent>(g, kernel, i);
+  for (std::size_t i = 0; i < g.n; ++i) momentum_particle<K, Exponent, Failure>(g, kernel, i);
+}
+
+template <KernelKind K, int Exponent, bool Failure>
+void momentum_rate_run(const MomentumArgs& g) {
+  if (cpu_has_avx2_fma()) momentum_avx2<K, Exponent, Failure>(g);
+  else momentum_generic<K, Exponent, Failure>(g);
 }
 
 template <KernelKind K, int Exponent>
 void momentum_rate_impl(const MomentumArgs& g) {
-  if (cpu_has_avx2_fma()) momentum_avx2<K, Exponent>(g);
-  else momentum_generic<K, Exponent>(g);
+  if (g.failure.failed) momentum_rate_run<K, Exponent, true>(g);
+  else momentum_rate_run<K, Exponent, false>(g);
 }
 }  // namespace
 
@@ -282,15 +321,17 @@ bool allow_avx2_pair_loops(bool allow) { return g_allow_avx2.exchange(allow); }
 
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
                        const double* volume, bool corrected, double* L, double* condition, double* correction,
-                       std::size_t n) {
+                       std::size_t n, const BondFailure& failure) {
   if (kernel == KernelKind::WendlandC2) {
     if (corrected)
-      velocity_gradient_impl<KernelKind::WendlandC2, true>(nl, h, x, v, volume, L, n, condition, correction);
-    else velocity_gradient_impl<KernelKind::WendlandC2, false>(nl, h, x, v, volume, L, n, condition, nullptr);
+      velocity_gradient_impl<KernelKind::WendlandC2, true>(nl, h, x, v, volume, L, n, condition, correction, failure);
+    else
+      velocity_gradient_impl<KernelKind::WendlandC2, false>(nl, h, x, v, volume, L, n, condition, nullptr, failure);
   } else {
     if (corrected)
-      velocity_gradient_impl<KernelKind::CubicSpline, true>(nl, h, x, v, volume, L, n, condition, correction);
-    else velocity_gradient_impl<KernelKind::CubicSpline, false>(nl, h, x, v, volume, L, n, condition, nullptr);
+      velocity_gradient_impl<KernelKind::CubicSpline, true>(nl, h, x, v, volume, L, n, condition, correction, failure);
+    else
+      velocity_gradient_impl<KernelKind::CubicSpline, false>(nl, h, x, v, volume, L, n, condition, nullptr, failure);
   }
 }
 
@@ -374,11 +415,11 @@ void momentum_rate_kernel(const MomentumArgs& g, bool stress) {
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
                    const double* volume, const double* stress_c, const ArtificialStress& as, const double* R,
-                   double* acceleration, std::size_t n) {
+                   double* acceleration, std::size_t n, const BondFailure& failure) {
   const bool stress = R != nullptr && as.epsilon > 0.0;
   const MomentumArgs g{&nl, x, v, mass, density, volume, stress_c, R, acceleration, n, h,
                        av.eta * av.eta * h * h, av.alpha * sound_speed, av.beta,
-                       stress ? 1.0 / as.w_dx : 0.0, as.exponent};
+                       stress ? 1.0 / as.w_dx : 0.0, as.exponent, failure};
   if (kernel == KernelKind::WendlandC2) momentum_rate_kernel<KernelKind::WendlandC2>(g, stress);
   else momentum_rate_kernel<KernelKind::CubicSpline>(g, stress);
 }
@@ -402,6 +443,14 @@ void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R,
     out[3] = r(0, 1);
     out[4] = r(1, 2);
     out[5] = r(0, 2);
+  }
+}
+
+void cauchy_stress(const double* pressure, const double* S, double* sigma, std::size_t n) {
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 6; ++c) sigma[6 * i + c] = S[6 * i + c];
+    for (int c = 0; c < 3; ++c) sigma[6 * i + c] -= pressure[i];
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 
+#include "engine/bond_failure.hpp"
 #include "engine/neighbours.hpp"
 #include "sphforge/kernels.hpp"
 
@@ -27,9 +28,10 @@ void particle_volume(const double* mass, const double* density, double* volume, 
 /// 9 per particle, L_ab = dv_a/dx_b. `condition` (may be null) receives the condition number of
 /// M_i, or -1 where the correction fell back to the plain gradient. `correction` (may be null; only
 /// written when `corrected`) receives C_i = M_i^-1 (6 per particle, symmetric), I on fallback.
+/// `failure` (engine/bond_failure.hpp; default: none) leaves out the broken bonds under tension (eq. 113).
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
                        const double* volume, bool corrected, double* L, double* condition, double* correction,
-                       std::size_t n);
+                       std::size_t n, const BondFailure& failure = {});
 
 /// A_i = sigma_i C_i (9 per particle, row-major), sigma = S - p I, the per-particle half of the
 /// momentum equation (eq. 7); C null means C = I (no correction).
@@ -65,10 +67,11 @@ void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R,
 /// sigma_i : L_i with respect to the velocities, L the corrected gradient: the pair force is
 /// antisymmetric (linear momentum exact), angular momentum is exact wherever the correction holds
 /// (sum_j V_j x_ij (x) C grad W = -I and sigma symmetric), and the work of the internal forces
-/// equals the stress power (energy consistency).
+/// equals the stress power (energy consistency). `failure` (default: none): broken bonds under tension
+/// carry no stress and no artificial stress, the viscosity stays (eq. 114).
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
                    const double* volume, const double* stress_c, const ArtificialStress& as, const double* R,
-                   double* acceleration, std::size_t n);
+                   double* acceleration, std::size_t n, const BondFailure& failure = {});
 
 }  // namespace sphforge

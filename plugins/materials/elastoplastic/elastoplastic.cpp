@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "../common/j2_plasticity.hpp"
+#include "../common/failure.hpp"
 #include "../common/optional_outputs.hpp"
 #include "sphforge/plugin.hpp"
 
@@ -22,7 +23,8 @@ class Elastoplastic final : public Material {
         taylor_quinney_(p.number("taylor_quinney")),
         conductivity_(p.number("conductivity")),
         specific_heat_(p.number("specific_heat")),
-        outputs_(p) {
+        outputs_(p),
+        failure_(p) {
     const double E = p.number("youngs_modulus"), nu = p.number("poisson_ratio");
     const double K = p.number("bulk_modulus"), G = p.number("shear_modulus");
     // Exactly one pair of elastic constants (0 / -1 mark a constant that was not given).
@@ -41,7 +43,11 @@ class Elastoplastic final : public Material {
     }
   }
 
-  std::vector<FieldInfo> fields() const override { return outputs_.fields(); }
+  std::vector<FieldInfo> fields() const override {
+    std::vector<FieldInfo> f = outputs_.fields();
+    failure_.add_fields(f);
+    return f;
+  }
   double reference_density() const override { return rho0_; }
   double wave_speed() const override { return std::sqrt((K_ + 4.0 * G_ / 3.0) / rho0_); }
   double shear_modulus() const override { return G_; }
@@ -70,6 +76,7 @@ class Elastoplastic final : public Material {
       b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
     }
     failed_ += failed;
+    failure_.update(b, out.plastic_strain);  // eq. 110
   }
 
   void yield_stress(const MaterialBatch& b, double* out) const override {
@@ -82,6 +89,7 @@ class Elastoplastic final : public Material {
  private:
   double rho0_, yield0_, hardening_, taylor_quinney_, conductivity_, specific_heat_, G_ = 0, K_ = 0;
   j2::OptionalOutputs outputs_;
+  j2::FailureCriterion failure_;
   long long failed_ = 0;
 };
 
@@ -104,6 +112,7 @@ const PluginDescriptor& descriptor() {
           ParamSpec::number("specific_heat", "J/(kg*K)", 0.0,
                             "specific heat capacity c (thermal cases need it; 0: no thermal properties)", 0.0),
           j2::OptionalOutputs::spec(),
+          j2::FailureCriterion::spec(),
       });
   return d;
 }

@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "../common/j2_plasticity.hpp"
+#include "../common/failure.hpp"
 #include "../common/optional_outputs.hpp"
 #include "sphforge/plugin.hpp"
 
@@ -64,7 +65,8 @@ class JohnsonCook final : public Material {
         k1_(p.number("conductivity_slope")),
         c0_(p.number("specific_heat")),
         c1_(p.number("specific_heat_slope")),
-        outputs_(p) {
+        outputs_(p),
+        failure_(p) {
     law_ = {p.number("A"), p.number("B"), p.number("n"), p.number("C"), p.number("reference_strain_rate"), p.number("m")};
     const j2::ElasticModuli moduli = j2::moduli_from_youngs(p.number("youngs_modulus"), p.number("poisson_ratio"));
     K_ = moduli.bulk;  // eq. 33
@@ -76,7 +78,11 @@ class JohnsonCook final : public Material {
     if (k0_ > 0.0 && !(k0_ + k1_ > 0.0)) p.fail("conductivity_slope", "makes the conductivity non-positive at the melting temperature");
   }
 
-  std::vector<FieldInfo> fields() const override { return outputs_.fields(); }
+  std::vector<FieldInfo> fields() const override {
+    std::vector<FieldInfo> f = outputs_.fields();
+    failure_.add_fields(f);
+    return f;
+  }
   double reference_density() const override { return rho0_; }
   double wave_speed() const override { return std::sqrt((K_ + 4.0 * G_ / 3.0) / rho0_); }
   double shear_modulus() const override { return G_; }
@@ -115,6 +121,7 @@ class JohnsonCook final : public Material {
       b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
     }
     failed_ += failed;
+    failure_.update(b, out.plastic_strain);  // eq. 110
   }
 
   /// Yield stress for friction laws (Coulomb-Tresca): eq. 36 at the particle's plastic strain and
@@ -137,6 +144,7 @@ class JohnsonCook final : public Material {
   double rho0_, taylor_quinney_, T_ref_, T_melt_, k0_, k1_, c0_, c1_, G_ = 0, K_ = 0;
   JohnsonCookLaw law_{};
   j2::OptionalOutputs outputs_;
+  j2::FailureCriterion failure_;
   long long failed_ = 0;
 };
 
@@ -162,6 +170,7 @@ const PluginDescriptor& descriptor() {
           ParamSpec::number("specific_heat", "J/(kg*K)", 0.0, "c0 of c = c0 + c1 Th (thermal cases; 0: none)", 0.0),
           ParamSpec::number("specific_heat_slope", "J/(kg*K)", 0.0, "c1 of c = c0 + c1 Th"),
           j2::OptionalOutputs::spec(),
+          j2::FailureCriterion::spec(),
       });
   return d;
 }
