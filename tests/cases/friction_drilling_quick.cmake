@@ -14,7 +14,7 @@ message(STATUS "status ${status}, particles ${particles}, max axial force ${forc
                "max sheet T ${tmax} K, max probe T ${probe} K, depth ${depth} m at ${ptime} s, "
                "max kinetic/work ${ratio}, wall ${wall} s")
 expect_status(completed "the run reaches run.end_time")
-# The sheet (1504 particles at 0.4 mm) and the drill body (320) keep every particle: material is
+# The sheet (1344 particles at 0.4 mm) and the drill body (480) keep every particle: material is
 # never deleted (issue 9).
 if(NOT particles EQUAL 1824)
   message(FATAL_ERROR "particle count ${particles}, expected 1824")
