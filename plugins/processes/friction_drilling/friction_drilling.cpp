@@ -220,6 +220,20 @@ class FrictionDrilling final : public Process {
           }
       probe_temperature_ = T[probe_index_];
     }
+    // Material separation state (docs/failure.md): how many sheet particles have failed, and the
+    // largest equivalent plastic strain (the failure criterion's variable).
+    if (const double* failed = f.f64_if(field::failed)) {
+      double count = 0.0;
+#pragma omp parallel for reduction(+ : count) schedule(static)
+      for (std::size_t i = 0; i < n; ++i) count += failed[i] > 0.5 ? 1.0 : 0.0;
+      failed_ = count;
+    }
+    if (const double* eps = f.f64_if(field::plastic_strain)) {
+      double emax = 0.0;
+#pragma omp parallel for reduction(max : emax) schedule(static)
+      for (std::size_t i = 0; i < n; ++i) emax = std::max(emax, eps[i]);
+      plastic_strain_max_ = emax;
+    }
     // Bushing heights (eqs. 127-129): the rank-th highest and lowest sheet particle in the band
     // band_inner <= r <= band_outer around the hole; particle centres lie dx/2 inside the surface.
     highest_.clear();
@@ -268,7 +282,9 @@ class FrictionDrilling final : public Process {
             {"sheet_temperature_max_K", &temperature_max_},
             {"bushing_upper_m", &upper_},
             {"bushing_lower_m", &lower_},
-            {"bushing_total_m", &total_}};
+            {"bushing_total_m", &total_},
+            {"failed_particles_1", &failed_},
+            {"plastic_strain_max_1", &plastic_strain_max_}};
   }
 
   nlohmann::json metrics() const override {
@@ -291,6 +307,8 @@ class FrictionDrilling final : public Process {
     m["final_process_time_s"] = process_time_;
     m["sheet_thickness_lattice_m"] = thickness_eff();
     m["sector_count"] = sectors_;
+    m["failed_particles"] = failed_;
+    m["plastic_strain_max"] = plastic_strain_max_;
     return m;
   }
 
@@ -327,7 +345,7 @@ class FrictionDrilling final : public Process {
   // Measured.
   double process_time_ = 0.0, tip_z_ = 0.0, depth_ = 0.0, feed_out_ = 0.0, speed_out_ = 0.0;
   double axial_force_ = 0.0, torque_ = 0.0, probe_temperature_ = 0.0, temperature_max_ = 0.0;
-  double upper_ = 0.0, lower_ = 0.0, total_ = 0.0;
+  double upper_ = 0.0, lower_ = 0.0, total_ = 0.0, failed_ = 0.0, plastic_strain_max_ = 0.0;
   std::vector<double> highest_, lowest_;
   double max_force_ = 0.0, max_force_time_ = 0.0, max_force_depth_ = 0.0, max_torque_ = 0.0;
   double max_probe_ = 0.0, max_probe_time_ = 0.0, max_temperature_ = 0.0;
