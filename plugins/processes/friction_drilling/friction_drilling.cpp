@@ -1,0 +1,394 @@
+// Process plugin `friction_drilling`: a rotating flow drill (a rigid body of revolution r(z)) fed
+// through a thin sheet (a disc clamped at its rim). The drill carries thermal-only particles that
+// take its share of the friction heat and conduct heat away from the contact (docs/theory.md
+// section 9.1); the process measures axial force, torque, a thermocouple on the upper surface and
+// the bushing heights from the particle cloud (docs/theory.md section 17, eqs. 120-129).
+// Geometry and reference numbers: cases/friction_drilling/reference/friction_drilling.md.
+//
+// Coordinates: z is the drill axis; the sheet's upper surface is the plane z = 0 and its lower
+// surface z = -t; the drill comes from above (+z) and is fed downwards. The drill profile is given
+// in the drill's own frame with the tip at z = 0.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include "sphforge/plugin.hpp"
+
+namespace {
+
+using namespace sphforge;
+using Vec = Eigen::Vector3d;
+
+/// Name of the per-particle clamp flag (1: part of the fixed rim, eq. 121).
+constexpr const char* kClampedField = "clamped";
+
+/// The default drill (eq. 120): a typical M4 flow drill simplified to a body of revolution, in mm,
+/// tip at z = 0, walked from the top of the modelled shank down to the tip (workpiece on the left,
+/// tool.hpp): top face, 3.7 mm cylinder, forming cone (half-angle 19.7 deg), tip cone (half-angle
+/// 60 deg, 120 deg included).
+std::vector<Eigen::Vector2d> default_profile_mm() {
+  return {{0.0, 9.0}, {1.85, 9.0}, {1.85, 3.85}, {0.6, 0.35}, {0.0, 0.0}};
+}
+
+class FrictionDrilling final : public Process {
+ public:
+  explicit FrictionDrilling(const ParamValues& p) {
+    radius_ = 0.5 * p.number("sheet_diameter");
+    thickness_ = p.number("sheet_thickness");
+    spacing_ = p.number("particle_spacing");
+    clamp_width_ = p.number("clamp_width");
+    feed_ = p.number("feed_rate");
+    speed_ = p.number("rotation_speed");
+    stroke_ = p.number("stroke");
+    gap_ = p.number("initial_gap");
+    drill_body_ = p.boolean("drill_body");
+    drill_material_ = p.string("drill_material");
+    drill_body_length_ = p.number("drill_body_length");
+    probe_radius_ = p.number("probe_radius");
+    band_outer_ = p.number("bushing_outer_radius");
+    rank_ = static_cast<std::size_t>(p.integer("bushing_rank"));
+    sectors_ = static_cast<int>(p.integer("sector_count"));
+    if (thickness_ < 2.0 * spacing_ - 1e-12)
+      p.fail("particle_spacing", "too coarse: need at least 2 particle layers over the sheet thickness");
+    if (clamp_width_ >= radius_) p.fail("clamp_width", "must be smaller than the sheet radius");
+    if (probe_radius_ >= radius_ - clamp_width_) p.fail("probe_radius", "the probe must lie on the free sheet, inside the clamped rim");
+
+    std::vector<Eigen::Vector2d> points;
+    if (p.has("drill_profile") && p.raw("drill_profile").is_array() && !p.raw("drill_profile").empty()) {
+      for (const auto& [r, z] : p.pairs("drill_profile", "m", "m")) points.emplace_back(r, z);
+    } else {
+      for (const Eigen::Vector2d& q : default_profile_mm()) points.push_back(1e-3 * q);
+    }
+    try {
+      profile_ = ToolProfile(points);
+      if (p.number("drill_fillet_radius") > 0.0) profile_ = profile_.with_fillets(p.number("drill_fillet_radius"));
+    } catch (const std::invalid_argument& e) {
+      p.fail(p.number("drill_fillet_radius") > 0.0 ? "drill_fillet_radius" : "drill_profile", e.what());
+    }
+    for (const Eigen::Vector2d& q : profile_.vertices()) drill_radius_ = std::max(drill_radius_, q.x());
+    band_inner_ = p.number("bushing_inner_radius") > 0.0 ? p.number("bushing_inner_radius") : drill_radius_;
+    if (band_outer_ <= band_inner_) p.fail("bushing_outer_radius", "must exceed the bushing inner radius (default: the drill radius)");
+    if (band_outer_ >= radius_ - clamp_width_) p.fail("bushing_outer_radius", "must lie inside the clamped rim");
+  }
+
+  std::vector<FieldInfo> fields() const override {
+    return {FieldInfo{kClampedField, 1, "1", FieldType::Int64, true}};
+  }
+
+  void build(SceneBuilder& scene) override {
+    // Sheet: a cell-centred cubic lattice clipped to the disc (centres inside r <= R - dx/2, so
+    // the lattice's material volume ends at about R), layers at z = -t + (k + 1/2) dx. The
+    // half-integer sites about the axis make the lattice map onto itself under 90 deg rotations
+    // (a sector, docs/theory.md eq. 30).
+    const int nr = static_cast<int>(std::ceil(radius_ / spacing_)) + 1;
+    const int nz = std::max(2, static_cast<int>(std::lround(thickness_ / spacing_)));
+    std::vector<Vec> sheet;
+    for (int k = 0; k < nz; ++k)
+      for (int j = -nr; j < nr; ++j)
+        for (int i = -nr; i < nr; ++i) {
+          const double x = (i + 0.5) * spacing_, y = (j + 0.5) * spacing_;
+          if (std::hypot(x, y) <= radius_ - 0.5 * spacing_ + 1e-9 * spacing_)
+            sheet.emplace_back(x, y, -thickness_ + (k + 0.5) * spacing_);
+        }
+    scene.add_body("sheet", sheet, spacing_);
+    // The layers span nz dx; with t not a multiple of dx the top surface is at -t + nz dx.
+    top_ = -thickness_ + nz * spacing_;
+
+    // Drill: tip at height top + gap. The upper particle layer lies dx/2 below the surface and a
+    // particle touches a tool closer than dx/2 (theory section 3), so with gap 0 the tip touches
+    // the sheet at t = 0 and depth 0 is first contact.
+    RigidTool drill("drill", profile_);
+    tip_start_ = top_ + gap_;
+    drill.axial_offset_m = tip_start_;
+    drill.angular_velocity_rad_s = speed_;
+    drill_ = scene.add_tool(std::move(drill));
+
+    if (!drill_body_) return;
+    // The drill's thermal body (eq. 122): lattice sites inside the profile at least dx/2 behind its
+    // surface (the tool particles then sit dx/2 behind the wall as the sheet's sit dx/2 in front:
+    // perfect thermal contact, theory eq. 92), up to drill_body_length above the tip.
+    std::vector<Vec> body;
+    const int nb = static_cast<int>(std::ceil(drill_radius_ / spacing_)) + 1;
+    const int nzb = static_cast<int>(std::floor(drill_body_length_ / spacing_));
+    Eigen::Vector2d normal;
+    for (int k = 0; k < nzb; ++k)
+      for (int j = -nb; j < nb; ++j)
+        for (int i = -nb; i < nb; ++i) {
+          const double x = (i + 0.5) * spacing_, y = (j + 0.5) * spacing_, z = (k + 0.5) * spacing_;
+          if (profile_.signed_distance({std::hypot(x, y), z}, normal) <= -0.5 * spacing_ * (1.0 - 1e-9))
+            body.emplace_back(x, y, z + tip_start_);
+        }
+    if (body.empty()) throw std::invalid_argument("friction_drilling: the drill body holds no particle at this spacing");
+    BodySpec spec;
+    spec.name = "drill_body";
+    spec.positions = std::move(body);
+    spec.spacing_m = spacing_;
+    spec.material = drill_material_;
+    spec.mechanics = false;
+    spec.attached_to = "drill";
+    scene.add_body(std::move(spec));
+  }
+
+  void bind_signals(SignalBus& bus) override {
+    bus.add_command("drill_feed_rate", "m/s", &feed_);
+    bus.add_command("drill_rotation_speed", "rad/s", &speed_);
+    bus.add_measured("drill_axial_force", "N", &axial_force_);
+    bus.add_measured("drill_torque", "N*m", &torque_);
+    bus.add_measured("drill_depth", "m", &depth_);
+    bus.add_measured("probe_temperature", "K", &probe_temperature_);
+    bus.add_measured("sheet_temperature_max", "K", &temperature_max_);
+  }
+
+  void initialize(ProcessContext& ctx) override {
+    FieldRegistry& f = *ctx.fields;
+    const double* x = f.f64(field::position);
+    const std::int64_t* ids = f.i64(field::id);
+    std::int64_t* clamped = f.i64(kClampedField);
+    // Fixed rim (eq. 121): every sheet particle within clamp_width of the sheet's edge.
+    for (std::size_t i = 0; i < f.size(); ++i)
+      clamped[i] = i < ctx.mechanical_count && std::hypot(x[3 * i], x[3 * i + 1]) >= radius_ - clamp_width_ ? 1 : 0;
+    // Thermocouple (eq. 126): the upper-surface sheet particle nearest (probe_radius, 0, top).
+    if (f.f64_if(field::temperature)) {
+      const Vec target(probe_radius_, 0.0, top_);
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < ctx.mechanical_count; ++i) {
+        const double d2 = (Vec(x[3 * i], x[3 * i + 1], x[3 * i + 2]) - target).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          probe_index_ = i;
+        }
+      }
+      probe_id_ = ids[probe_index_];
+      probe_position_ = Vec(x[3 * probe_index_], x[3 * probe_index_ + 1], x[3 * probe_index_ + 2]);
+    }
+  }
+
+  void before_step(ProcessContext& ctx) override {
+    // Commands are physical (eq. 123); the tool runs f times faster in the scaled time (eq. 25).
+    RigidTool& drill = (*ctx.tools)[drill_];
+    drill.axial_velocity_m_s = -feed_ * ctx.time_scaling;
+    drill.angular_velocity_rad_s = speed_ * ctx.time_scaling;
+  }
+
+  bool constrains_velocities() const override { return true; }
+
+  void apply_constraints(ProcessContext& ctx) override {
+    // Clamped rim (eq. 121): zero velocity and acceleration, so the rim never moves.
+    FieldRegistry& f = *ctx.fields;
+    const std::int64_t* clamped = f.i64(kClampedField);
+    double* v = f.f64(field::velocity);
+    double* a = f.f64(field::acceleration);
+    const std::size_t n = ctx.mechanical_count;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!clamped[i]) continue;
+      for (int d = 0; d < 3; ++d) {
+        v[3 * i + d] = 0.0;
+        a[3 * i + d] = 0.0;
+      }
+    }
+  }
+
+  void measure(ProcessContext& ctx) override {
+    const RigidTool& drill = (*ctx.tools)[drill_];
+    FieldRegistry& f = *ctx.fields;
+    // Eq. 123-124: the reaction on the drill; a sector carries 1/N of it (theory section 11).
+    axial_force_ = sectors_ * drill.reaction_force_N.z();  // the sheet pushes the drill up (+z)
+    torque_ = -sectors_ * drill.reaction_torque_Nm;        // resisting torque the spindle supplies
+    tip_z_ = drill.axial_offset_m;
+    depth_ = top_ - tip_z_;  // tip below the original upper surface (negative before it reaches it)
+    process_time_ = ctx.time_s * ctx.time_scaling;
+    feed_out_ = feed_;
+    speed_out_ = speed_;
+
+    const double* x = f.f64(field::position);
+    const std::size_t n = ctx.mechanical_count;
+    // Sheet temperatures (eq. 125-126).
+    if (const double* T = f.f64_if(field::temperature)) {
+      double tmax = -std::numeric_limits<double>::infinity();
+#pragma omp parallel for reduction(max : tmax) schedule(static)
+      for (std::size_t i = 0; i < n; ++i) tmax = std::max(tmax, T[i]);
+      temperature_max_ = tmax;
+      const std::int64_t* ids = f.i64(field::id);
+      if (ids[probe_index_] != probe_id_)  // the core reordered the particles: look the id up again
+        for (std::size_t i = 0; i < f.size(); ++i)
+          if (ids[i] == probe_id_) {
+            probe_index_ = i;
+            break;
+          }
+      probe_temperature_ = T[probe_index_];
+    }
+    // Material separation state (docs/failure.md): how many sheet particles have failed, and the
+    // largest equivalent plastic strain (the failure criterion's variable).
+    if (const double* failed = f.f64_if(field::failed)) {
+      double count = 0.0;
+#pragma omp parallel for reduction(+ : count) schedule(static)
+      for (std::size_t i = 0; i < n; ++i) count += failed[i] > 0.5 ? 1.0 : 0.0;
+      failed_ = count;
+    }
+    if (const double* eps = f.f64_if(field::plastic_strain)) {
+      double emax = 0.0;
+#pragma omp parallel for reduction(max : emax) schedule(static)
+      for (std::size_t i = 0; i < n; ++i) emax = std::max(emax, eps[i]);
+      plastic_strain_max_ = emax;
+    }
+    // Bushing heights (eqs. 127-129): the rank-th highest and lowest sheet particle in the band
+    // band_inner <= r <= band_outer around the hole; particle centres lie dx/2 inside the surface.
+    highest_.clear();
+    lowest_.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double r = std::hypot(x[3 * i], x[3 * i + 1]);
+      if (r < band_inner_ || r > band_outer_) continue;
+      keep_extreme(highest_, x[3 * i + 2], std::greater<double>());
+      keep_extreme(lowest_, x[3 * i + 2], std::less<double>());
+    }
+    const double t = thickness_eff();
+    if (highest_.size() == rank_) {
+      upper_ = std::max(0.0, highest_.back() + 0.5 * spacing_ - top_);
+      lower_ = std::max(0.0, (top_ - t) - (lowest_.back() - 0.5 * spacing_));
+    } else {
+      upper_ = lower_ = 0.0;
+    }
+    total_ = upper_ + t + lower_;
+
+    if (ctx.dt_s > 0.0) {
+      if (axial_force_ > max_force_) {
+        max_force_ = axial_force_;
+        max_force_time_ = process_time_;
+        max_force_depth_ = depth_;
+      }
+      max_torque_ = std::max(max_torque_, torque_);
+      if (probe_temperature_ > max_probe_) {
+        max_probe_ = probe_temperature_;
+        max_probe_time_ = process_time_;
+      }
+      max_temperature_ = std::max(max_temperature_, temperature_max_);
+    }
+  }
+
+  bool finished(const ProcessContext&) const override { return depth_ >= stroke_; }
+
+  std::vector<HistoryColumn> history_columns() const override {
+    return {{"process_time_s", &process_time_},
+            {"drill_tip_z_m", &tip_z_},
+            {"drill_depth_m", &depth_},
+            {"drill_feed_rate_m_s", &feed_out_},
+            {"drill_rotation_speed_rad_s", &speed_out_},
+            {"axial_force_N", &axial_force_},
+            {"torque_Nm", &torque_},
+            {"probe_temperature_K", &probe_temperature_},
+            {"sheet_temperature_max_K", &temperature_max_},
+            {"bushing_upper_m", &upper_},
+            {"bushing_lower_m", &lower_},
+            {"bushing_total_m", &total_},
+            {"failed_particles_1", &failed_},
+            {"plastic_strain_max_1", &plastic_strain_max_}};
+  }
+
+  nlohmann::json metrics() const override {
+    nlohmann::json m;
+    m["max_axial_force_N"] = max_force_;
+    m["max_axial_force_process_time_s"] = max_force_time_;
+    m["max_axial_force_depth_m"] = max_force_depth_;
+    m["max_torque_Nm"] = max_torque_;
+    m["max_probe_temperature_K"] = max_probe_;
+    m["max_probe_temperature_degC"] = max_probe_ - 273.15;
+    m["max_probe_temperature_process_time_s"] = max_probe_time_;
+    m["probe_x0_m"] = probe_position_.x();
+    m["probe_y0_m"] = probe_position_.y();
+    m["probe_z0_m"] = probe_position_.z();
+    m["max_sheet_temperature_K"] = max_temperature_;
+    m["bushing_upper_m"] = upper_;
+    m["bushing_lower_m"] = lower_;
+    m["bushing_total_m"] = total_;
+    m["final_drill_depth_m"] = depth_;
+    m["final_process_time_s"] = process_time_;
+    m["sheet_thickness_lattice_m"] = thickness_eff();
+    m["sector_count"] = sectors_;
+    m["failed_particles"] = failed_;
+    m["plastic_strain_max"] = plastic_strain_max_;
+    return m;
+  }
+
+ private:
+  /// Sheet thickness as built: nz dx (equals the nominal t when t is a multiple of dx).
+  double thickness_eff() const { return top_ + thickness_; }
+
+  /// Keeps the `rank_` most extreme values (by `better`) in `list`, sorted best first.
+  template <class Better>
+  void keep_extreme(std::vector<double>& list, double value, Better better) const {
+    if (list.size() == rank_ && !better(value, list.back())) return;
+    auto it = std::lower_bound(list.begin(), list.end(), value, better);
+    list.insert(it, value);
+    if (list.size() > rank_) list.pop_back();
+  }
+
+  // Parameters.
+  double radius_ = 0.0, thickness_ = 0.0, spacing_ = 0.0, clamp_width_ = 0.0, stroke_ = 0.0, gap_ = 0.0;
+  double drill_body_length_ = 0.0, probe_radius_ = 0.0, band_inner_ = 0.0, band_outer_ = 0.0;
+  double drill_radius_ = 0.0;
+  bool drill_body_ = true;
+  std::string drill_material_;
+  std::size_t rank_ = 3;
+  int sectors_ = 1;
+  ToolProfile profile_;
+  // Commands (physical units, eq. 123).
+  double feed_ = 0.0, speed_ = 0.0;
+  // Scene.
+  std::size_t drill_ = 0;
+  double top_ = 0.0, tip_start_ = 0.0;
+  std::size_t probe_index_ = 0;
+  std::int64_t probe_id_ = -1;
+  Vec probe_position_ = Vec::Zero();
+  // Measured.
+  double process_time_ = 0.0, tip_z_ = 0.0, depth_ = 0.0, feed_out_ = 0.0, speed_out_ = 0.0;
+  double axial_force_ = 0.0, torque_ = 0.0, probe_temperature_ = 0.0, temperature_max_ = 0.0;
+  double upper_ = 0.0, lower_ = 0.0, total_ = 0.0, failed_ = 0.0, plastic_strain_max_ = 0.0;
+  std::vector<double> highest_, lowest_;
+  double max_force_ = 0.0, max_force_time_ = 0.0, max_force_depth_ = 0.0, max_torque_ = 0.0;
+  double max_probe_ = 0.0, max_probe_time_ = 0.0, max_temperature_ = 0.0;
+};
+
+const PluginDescriptor& descriptor() {
+  static const PluginDescriptor d = make_plugin_descriptor<FrictionDrilling>(
+      "friction_drilling", "0.1.0",
+      "flow drill (rigid r(z) profile, rotating and fed, with a conducting thermal body) through a sheet disc "
+      "clamped at its rim; force, torque, thermocouple, bushing heights (docs/processes/friction_drilling.md)",
+      {
+          ParamSpec::number("sheet_diameter", "m", 10e-3, "diameter of the sheet disc", 1e-6),
+          ParamSpec::number("sheet_thickness", "m", 1.2e-3, "sheet thickness t (upper surface at z = 0)", 1e-6),
+          ParamSpec::number("particle_spacing", "m", std::nullopt, "lattice spacing dx of the sheet and the drill body", 1e-7),
+          ParamSpec::number("clamp_width", "m", 0.5e-3, "width of the fixed rim ring at the sheet's edge (eq. 121)", 0.0),
+          ParamSpec::number("feed_rate", "m/s", 50e-3 / 60.0,
+                            "initial value of the command drill_feed_rate (downwards, physical; x time_scaling)", 0.0),
+          ParamSpec::number("rotation_speed", "rad/s", 5800.0 * 2.0 * std::numbers::pi / 60.0,
+                            "initial value of the command drill_rotation_speed (about +z, physical; x time_scaling)"),
+          ParamSpec::number("stroke", "m", 7.5e-3, "the run ends when the drill tip is this far below the upper surface", 0.0),
+          ParamSpec::number("initial_gap", "m", 0.0, "height of the drill tip above the upper surface at t = 0 (0: touching)", 0.0),
+          ParamSpec::array("drill_profile",
+                           "drill r(z) [[r, z], ...] in the drill frame (tip at z = 0), walked from the top down to the "
+                           "tip; default: the M4 flow drill of eq. 120"),
+          ParamSpec::number("drill_fillet_radius", "m", 0.0, "radius of the arcs rounding the profile's corners", 0.0),
+          ParamSpec::boolean("drill_body", true,
+                             "true: the drill carries thermal-only particles (conduction, its friction-heat share)"),
+          ParamSpec::string("drill_material", std::string("drill"), "key in the case's \"materials\" of the drill body"),
+          ParamSpec::number("drill_body_length", "m", 6e-3, "length of the drill (from the tip) filled with thermal particles", 0.0),
+          ParamSpec::number("probe_radius", "m", 4e-3, "thermocouple: distance from the axis on the upper surface (eq. 126)", 0.0),
+          ParamSpec::number("bushing_inner_radius", "m", 0.0,
+                            "inner radius of the band in which the bushing is measured (0: the drill's largest radius)", 0.0),
+          ParamSpec::number("bushing_outer_radius", "m", 3.5e-3, "outer radius of the bushing band (eq. 127)", 0.0),
+          ParamSpec::integer("bushing_rank", 3,
+                             "the bushing ends at the rank-th highest / lowest particle of the band (robust to a stray "
+                             "particle, eq. 127)", 1, 1000),
+          ParamSpec::integer("sector_count", 1,
+                             "N when numerics.symmetry is a sector of 360/N deg (force and torque x N; needs "
+                             "drill_body false: the core rejects thermal-only bodies with symmetry)", 1, 64),
+      });
+  return d;
+}
+
+}  // namespace
+
+SPHFORGE_PLUGIN(descriptor)

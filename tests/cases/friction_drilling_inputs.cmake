@@ -1,0 +1,30 @@
+# CTest (label `integration`): the friction_drilling plugin's input handling through `sphforge check`
+# (validation and scene building, no time steps): the force-controlled case binds a PID controller to
+# the process's signals, and bad process parameters are user errors (exit 2) naming file and pointer.
+# Invoked as: cmake -DSPHFORGE=... -DCASES=<source>/cases/friction_drilling -P friction_drilling_inputs.cmake
+
+# Runs `sphforge check ARGS...`; fails unless the exit code is `code` and the output matches `regex`.
+function(expect_check code regex)
+  execute_process(COMMAND "${SPHFORGE}" check ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL code)
+    message(FATAL_ERROR "sphforge check ${ARGN}: exit ${rc}, expected ${code}\n${out}${err}")
+  endif()
+  if(NOT "${out}${err}" MATCHES "${regex}")
+    message(FATAL_ERROR "sphforge check ${ARGN}: output does not match '${regex}':\n${out}${err}")
+  endif()
+endfunction()
+
+# PID on drill_axial_force -> drill_feed_rate (the names the process offers).
+expect_check(0 "is valid: 15804 particles" "${CASES}/hx220_m4_force_controlled.json")
+# A misspelt signal is an input error at the controller's parameter.
+expect_check(2 "hx220_m4_force_controlled.json at /controllers/0/measured"
+             "${CASES}/hx220_m4_force_controlled.json" --set "controllers.0.measured=drill_force")
+# Fewer than two layers over the sheet thickness.
+expect_check(2 "hx220_m4_quick.json at /process/particle_spacing: too coarse"
+             "${CASES}/hx220_m4_quick.json" --set "process.particle_spacing=1 mm")
+# The bushing band must stay inside the clamped rim.
+expect_check(2 "hx220_m4_quick.json at /process/bushing_outer_radius"
+             "${CASES}/hx220_m4_quick.json" --set "process.bushing_outer_radius=6 mm")
+# A drill profile that is not a list of [r, z] pairs.
+expect_check(2 "hx220_m4_quick.json at /process/drill_profile"
+             "${CASES}/hx220_m4_quick.json" --set "process.drill_profile=[1, 2]")
