@@ -52,6 +52,20 @@ class SceneBuilder {
     spec.spacing_m = spacing_m;
     return add_body(std::move(spec));
   }
+  /// Shorthand: a thermal-only body of the case's material `material` (a key of "materials") attached
+  /// to the tool named `tool`, which moves it and gives it its share of the friction heat
+  /// (docs/theory.md eqs. 90-91).
+  std::size_t add_tool_body(const std::string& name, std::vector<Eigen::Vector3d> positions, double spacing_m,
+                            const std::string& material, const std::string& tool) {
+    BodySpec spec;
+    spec.name = name;
+    spec.positions = std::move(positions);
+    spec.spacing_m = spacing_m;
+    spec.material = material;
+    spec.mechanics = false;
+    spec.attached_to = tool;
+    return add_body(std::move(spec));
+  }
   /// Adds a rigid tool and returns its index.
   virtual std::size_t add_tool(RigidTool tool) = 0;
 };

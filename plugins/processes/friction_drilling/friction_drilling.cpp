@@ -121,14 +121,7 @@ class FrictionDrilling final : public Process {
             body.emplace_back(x, y, z + tip_start_);
         }
     if (body.empty()) throw std::invalid_argument("friction_drilling: the drill body holds no particle at this spacing");
-    BodySpec spec;
-    spec.name = "drill_body";
-    spec.positions = std::move(body);
-    spec.spacing_m = spacing_;
-    spec.material = drill_material_;
-    spec.mechanics = false;
-    spec.attached_to = "drill";
-    scene.add_body(std::move(spec));
+    scene.add_tool_body("drill_body", std::move(body), spacing_, drill_material_, "drill");
   }
 
   void bind_signals(SignalBus& bus) override {

@@ -144,22 +144,8 @@ class FrictionExtrusion final : public Process {
           const bool bottom = k < 0 && r <= radius_ + wall_thickness_;
           if (wall || bottom) container_body.emplace_back(px, py, (k + 0.5) * dx);
         }
-    BodySpec d;
-    d.name = "die_body";
-    d.positions = std::move(die_body);
-    d.spacing_m = dx;
-    d.material = "die_steel";
-    d.mechanics = false;
-    d.attached_to = "die";
-    scene.add_body(std::move(d));
-    BodySpec c;
-    c.name = "container_body";
-    c.positions = std::move(container_body);
-    c.spacing_m = dx;
-    c.material = "container_steel";
-    c.mechanics = false;
-    c.attached_to = "container";
-    scene.add_body(std::move(c));
+    scene.add_tool_body("die_body", std::move(die_body), dx, "die_steel", "die");
+    scene.add_tool_body("container_body", std::move(container_body), dx, "container_steel", "container");
   }
 
   void bind_signals(SignalBus& bus) override {
