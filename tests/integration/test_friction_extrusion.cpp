@@ -119,22 +119,14 @@ TEST(FrictionExtrusion, FrictionHeatRateIsTheCoresFrictionHeatOverTheTimeScaling
                              "run.history_interval=1 ms"},
                             dir);
   ASSERT_EQ(r.code, 0) << describe(r);
-  const std::vector<std::string> lines = lines_of(slurp(dir / "out" / "history.csv"));
-  ASSERT_GT(lines.size(), 10u);
-  const std::vector<std::string> head = split(lines[0], ',');
-  auto column = [&](const std::string& name) {
-    for (std::size_t k = 0; k < head.size(); ++k)
-      if (head[k] == name) return k;
-    ADD_FAILURE() << "no column " << name;
-    return std::size_t{0};
-  };
-  const std::size_t process = column("friction_heat_rate_W"), core = column("die_friction_heat_W");
+  const Table t = read_table(dir / "out" / "history.csv");
+  ASSERT_GT(t.rows.size(), 10u);
+  const std::size_t process = t.column("friction_heat_rate_W"), core = t.column("die_friction_heat_W");
   int compared = 0;
   double worst = 0.0;
-  for (std::size_t row = 1; row < lines.size(); ++row) {
-    const std::vector<std::string> v = split(lines[row], ',');
-    if (v.size() != head.size()) continue;
-    const double q_process = std::stod(v[process]), q_core = std::stod(v[core]);
+  for (const std::vector<double>& v : t.rows) {
+    if (v.size() != t.head.size()) continue;
+    const double q_process = v[process], q_core = v[core];
     if (q_core <= 0.0) continue;
     worst = std::max(worst, std::abs(10.0 * q_process - q_core) / q_core);  // time_scaling 10 (eq. 104)
     ++compared;

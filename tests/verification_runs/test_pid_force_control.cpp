@@ -36,7 +36,8 @@ TEST(PidForceControl, PunchSettlesAtTheTargetForceOnAnElasticBlock) {
   EXPECT_LT(r.mean_abs_force_error, 0.01);           // the 1 %
   EXPECT_LT(std::abs(r.shortening_error), 0.10);     // regression bound (see the header): the 3 % is checked on
                                                      // the slender block (test_pid_force_slender.cpp)
-  EXPECT_GT(std::abs(read_history(run.out / "history.csv")["force_command_m_s"][1]), 0.0);  // the punch was driven
+  const History h = read_history(run.out / "history.csv");
+  EXPECT_GT(std::abs(h["force_command_m_s"][1]), 0.0);  // the punch was driven
 
   // Energy ledger (theory eq. 27) of a block held between two walls: at rest, the punch's work equals
   // kinetic + internal energy plus what the penalty springs of both walls hold, F g / 2 each (N equal
@@ -45,7 +46,6 @@ TEST(PidForceControl, PunchSettlesAtTheTargetForceOnAnElasticBlock) {
   // small in this slow, frictionless loading (measured 0.07 %). With the step-centred velocity built
   // from the internal acceleration alone (the code before 2026-11-30), the internal energy came out
   // at -2.9e-3 J against the 4.1e-5 J stored: a 6,000 % error that grows with every step a wall holds load.
-  const History h = read_history(run.out / "history.csv");
   const std::size_t last = h.rows - 1;
   const double work = h["tool_work_J"][last], internal = h["internal_energy_J"][last],
                kinetic = h["kinetic_energy_J"][last];

@@ -970,10 +970,7 @@ void Simulation::thermal_rates() {
     const bool rebuild = thermal_lists_stale_ || thermal_neighbours_.needs_rebuild(x, n, search, skin);
     if (sym) {
       if (rebuild) thermal_symmetry_.select(x, n, search + skin);
-      ext_thermal_x_.resize(3 * (n + thermal_symmetry_.ghost_count()));
-      std::copy(x, x + 3 * n, ext_thermal_x_.begin());
-      thermal_symmetry_.fill_positions(ext_thermal_x_.data(), n);
-      xe = ext_thermal_x_.data();
+      xe = extend(ext_thermal_x_, x, 3, true, thermal_symmetry_, n);
       if (rebuild) thermal_neighbours_.rebuild(xe, n + thermal_symmetry_.ghost_count(), search, skin, n);
     } else if (rebuild) {
       thermal_neighbours_.rebuild(x, n, search, skin);
@@ -995,10 +992,7 @@ void Simulation::thermal_rates() {
   if (sym) {
     ghosts.fill_scalars(volume, n);
     ghosts.fill_scalars(conductivity_.data(), n);
-    ext_T_.resize(nt);
-    std::copy(T, T + n, ext_T_.begin());
-    ghosts.fill_scalars(ext_T_.data(), n);
-    Te = ext_T_.data();
+    Te = extend(ext_T_, T, 1, false, ghosts, n);
   }
   // The tools' share of the friction heat into their attached particles near each contact (eq. 91),
   // over the thermal lists (every particle's neighbours, just refreshed above); heat meant for a
@@ -1024,13 +1018,14 @@ void Simulation::thermal_rates() {
   }
 }
 
-double* Simulation::extend(std::vector<double>& ext, const double* src, int components, bool position) {
-  const std::size_t n = mechanical_count_, c = static_cast<std::size_t>(components);
-  ext.resize((n + symmetry_.ghost_count()) * c);
+double* Simulation::extend(std::vector<double>& ext, const double* src, int components, bool position,
+                           const Symmetry& ghosts, std::size_t n) {
+  const std::size_t c = static_cast<std::size_t>(components);
+  ext.resize((n + ghosts.ghost_count()) * c);
   std::copy(src, src + n * c, ext.begin());
-  if (components == 1) symmetry_.fill_scalars(ext.data(), n);
-  else if (position) symmetry_.fill_positions(ext.data(), n);
-  else symmetry_.fill_vectors(ext.data(), n);
+  if (components == 1) ghosts.fill_scalars(ext.data(), n);
+  else if (position) ghosts.fill_positions(ext.data(), n);
+  else ghosts.fill_vectors(ext.data(), n);
   return ext.data();
 }
 

@@ -145,7 +145,12 @@ class Simulation {
   /// start, ghosts included (eq. 112).
   std::vector<double> bond_stress_, ext_failed_;
   /// Copies the real part [0, n) of `src` into ext and fills the ghosts; returns ext.data().
-  double* extend(std::vector<double>& ext, const double* src, int components, bool position = false);
+  double* extend(std::vector<double>& ext, const double* src, int components, bool position = false) {
+    return extend(ext, src, components, position, symmetry_, mechanical_count_);
+  }
+  /// The same for the real particles [0, n) and the ghosts of `ghosts` (the thermal set, eq. 32a).
+  static double* extend(std::vector<double>& ext, const double* src, int components, bool position,
+                        const Symmetry& ghosts, std::size_t n);
   double wave_speed_ = 0.0;  ///< fastest mechanical wave, mass scaling included
   // Thermal scratch (thermal scenes only): properties, heat flow (W) and surface area (m^2).
   std::vector<double> conductivity_, specific_heat_, heat_W_, area_, thermal_volume_, physical_density_;
