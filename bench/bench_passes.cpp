@@ -223,6 +223,17 @@ void BM_MaterialJohnsonCookBrass(benchmark::State& state) {
   run_material(state, m);
 }
 
+// HX220 steel (friction_drilling.md): strain hardening, rate independent (C = 0), thermal.
+void BM_MaterialJohnsonCookHX220(benchmark::State& state) {
+  static MaterialBlock m(plugin_loader(), "johnson_cook",
+                         {{"density", 7850}, {"youngs_modulus", 210e9}, {"poisson_ratio", 0.3}, {"A", 212.2e6},
+                          {"B", 409.2e6}, {"n", 0.3524}, {"C", 0.0}, {"m", 0.7521}, {"reference_strain_rate", 0.01},
+                          {"reference_temperature", 293.15}, {"melting_temperature", 1773.15},
+                          {"specific_heat", 500}, {"conductivity", 50}},
+                         block_count(static_cast<int>(state.range(0))), true);
+  run_material(state, m);
+}
+
 // 46^3 = 97,336 particles: the size of the SPH-core throughput target (about 1e5).
 BENCHMARK(BM_NeighbourBuild)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_VelocityGradientCorrected)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -235,3 +246,4 @@ BENCHMARK(BM_JaumannRotation)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTi
 BENCHMARK(BM_MaterialElastoplastic)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MaterialJohnsonCookAA7075)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MaterialJohnsonCookBrass)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MaterialJohnsonCookHX220)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -490,6 +491,102 @@ TEST(JohnsonCookPoint, BundledParameterSetsLoad) {
     const double hard = v.number("A") + v.number("B") * std::pow(pt.eps_p(), v.number("n"));
     EXPECT_GT(pt.eps_p(), 0.0) << name;
     EXPECT_NEAR(pt.von_mises(), hard, 1e-10 * hard) << name;
+  }
+}
+
+// Many particles in one batch, as the core calls the plugin: every return of the interleaved,
+// vectorized Johnson-Cook return (eqs. 34, 34a, 36a, 36b) must put the stress on the yield surface
+// to the 1e-10, judged against eq. 36 evaluated here independently (std::pow, std::log) at
+// the returned plastic strain and rate; elastic particles must lie inside the surface. The batch of
+// 1,001 particles is not a multiple of the block or vector widths, so partial blocks and padded
+// lanes are exercised. Per particle the strain increment (1e-7 to 1e-2 per step), the temperature
+// (below T_ref to above T_m) and the load direction vary; the rate term straddles its cut-off.
+// Parameter sets: brass (n = 0.42), HX220 (n = 0.35, C = 0), AA7075 (B = 0), 42CrMo4 (n = 0.168)
+// and a convex hardening n = 1.5 (no curvature bound: every step evaluated).
+// Tolerance 1e-10 relative, the return's yield tolerance (eq. 34), plus 1e-14 for the round-off by
+// which the independent evaluation differs from the plugin's (pow against exp(n ln e), ~1e-15): a
+// step accepted by the curvature bound (eq. 34a) may use the tolerance to the full. Accepting every
+// Newton step (a zero bound) gives 4e-4 to 8e-2 here: the test catches a wrong bound.
+TEST(JohnsonCookBlock, EveryReturnOnTheIndependentSurface) {
+  struct Set {
+    const char* name;
+    double A, B, n, C, rate0, m, Tr, Tm;
+  };
+  const Set sets[] = {{"brass", 112e6, 505e6, 0.42, 0.009, 1.0, 1.68, 298.15, 1189.15},
+                      {"hx220", 212.2e6, 409.2e6, 0.3524, 0.0, 0.01, 0.7521, 293.15, 1773.15},
+                      {"aa7075", 546e6, 0.0, 1.0, 0.024, 1.0, 1.57, 295.15, 750.15},
+                      {"42crmo4", 806e6, 614e6, 0.168, 0.0089, 1.0, 1.1, 293.15, 1813.15},
+                      {"convex", 300e6, 400e6, 1.5, 0.02, 10.0, 1.0, 293.15, 1800.0}};
+  const std::size_t count = 1001;
+  for (const Set& c : sets) {
+    const json params = {{"density", kRho}, {"youngs_modulus", kE}, {"poisson_ratio", kNu}, {"A", c.A}, {"B", c.B},
+                         {"n", c.n}, {"C", c.C}, {"reference_strain_rate", c.rate0}, {"m", c.m},
+                         {"reference_temperature", c.Tr}, {"melting_temperature", c.Tm},
+                         {"output_fields", json::array({"plastic_strain_rate"})}};
+    std::unique_ptr<Material> material = make("johnson_cook", params);
+    FieldRegistry fields;
+    for (const FieldInfo& f : material->fields()) fields.declare(f, "material");
+    fields.allocate(count);
+    material->initialize(fields, 0, count);
+    std::vector<double> L(9 * count), S(6 * count, 0.0), p(count), rho(count, kRho), T(count), heat(count);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double dt = 1e-4;
+    for (std::size_t i = 0; i < count; ++i) {
+      const double rate = std::pow(10.0, -3.0 + 5.0 * u(rng));  // strain per step 1e-7 .. 1e-2
+      const double shear = u(rng);
+      L[9 * i] = rate;
+      L[9 * i + 4] = L[9 * i + 8] = -0.5 * rate;
+      L[9 * i + 1] = L[9 * i + 3] = shear * rate;
+      T[i] = c.Tr + (c.Tm - c.Tr) * (-0.1 + 1.2 * u(rng));
+    }
+    const double G = kE / (2 * (1 + kNu)), Th_range = c.Tm - c.Tr;
+    double worst = 0.0;
+    long long plastic = 0, elastic_outside = 0;
+    for (int step = 0; step < 30; ++step) {
+      std::vector<double> eps_before(fields.f64(field::plastic_strain), fields.f64(field::plastic_strain) + count);
+      MaterialBatch b;
+      b.count = count;
+      b.dt = dt;
+      b.velocity_gradient = L.data();
+      b.density = rho.data();
+      b.deviatoric_stress = S.data();
+      b.pressure = p.data();
+      b.fields = &fields;
+      b.temperature = T.data();
+      b.heat_source = heat.data();
+      material->update_stress(b);
+      const double* eps = fields.f64(field::plastic_strain);
+      const double* rate = fields.f64("plastic_strain_rate");
+      for (std::size_t i = 0; i < count; ++i) {
+        const double* s = &S[6 * i];
+        const double q = std::sqrt(1.5 * (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] +
+                                          2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5])));
+        const double Th = std::clamp((T[i] - c.Tr) / Th_range, 0.0, 1.0);
+        const double theta = 1.0 - std::pow(Th, c.m);
+        const double hard = c.A + (eps[i] > 0.0 ? c.B * std::pow(eps[i], c.n) : 0.0);
+        const double R = (c.C != 0.0 && rate[i] > c.rate0) ? 1.0 + c.C * std::log(rate[i] / c.rate0) : 1.0;
+        const double sigma_y = hard * R * theta;
+        if (eps[i] > eps_before[i]) {
+          ++plastic;
+          // sigma_y = 0 (at or above T_m): the stress must vanish to round-off of the trial stress.
+          const double err = sigma_y > 0.0 ? std::abs(q - sigma_y) / sigma_y : q / (3.0 * G);
+          worst = std::max(worst, err);
+        } else if (q > sigma_y * (1.0 + 1e-12)) {
+          ++elastic_outside;
+        }
+      }
+    }
+    char line[300];
+    std::snprintf(line, sizeof line,
+                  "johnson_cook block (%s, %zu particles x 30 steps): %lld plastic returns, worst |q - sigma_y|/sigma_y "
+                  "%.2e, elastic states outside the surface %lld, failed returns %lld",
+                  c.name, count, plastic, worst, elastic_outside, material->failed_returns());
+    record(line);
+    EXPECT_GT(plastic, 10000) << line;  // most of the 30,030 updates flow plastically
+    EXPECT_LT(worst, 1e-10 + 1e-14) << line;
+    EXPECT_EQ(elastic_outside, 0) << line;
+    EXPECT_EQ(material->failed_returns(), 0) << line;
   }
 }
 

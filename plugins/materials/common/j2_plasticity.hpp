@@ -59,34 +59,80 @@ inline constexpr double kYieldTolerance = 1e-10;
 /// need about 35 halvings of the bracket to reach 1e-10, so 60 is a true failure, counted.
 inline constexpr int kMaxIterations = 60;
 
-/// Radial return (eq. 34): solves g(d) = q* - 3 G d - sigma_y(d) = 0 for the plastic increment d,
-/// given a trial state outside the surface (g(0) > 0). The root lies in [0, q*/(3G)] (g there is
-/// -sigma_y <= 0 for any non-negative yield law), so Newton with the analytic derivative
-/// g' = -3G - sigma_y' is kept inside the bracket and falls back to bisection when a step would
-/// leave it (e.g. the infinite slope of eps_p^n at eps_p = 0 for n < 1, or the kink of a cut-off
-/// rate term). Convergence is judged relative to sigma_y (unit-free); when sigma_y = 0 (above the
-/// melting temperature) g is linear and the first step is exact, judged against round-off of q*.
-/// `yield(d)` returns sigma_y and its slope at the increment d.
+/// Particles per block of the interleaved return below: enough independent Newton iterations in
+/// flight to hide the latency of one (a logarithm, a power and a division in a dependent chain),
+/// few enough that a block's trial states stay in L1 (a few kB on the stack).
+inline constexpr int kReturnBlock = 32;
+
+/// Radial returns (eq. 34) of up to kReturnBlock particles at once: for each lane k, solves
+/// g_k(d) = q*_k - 3 G d - sigma_y,k(d) = 0 for the plastic increment d, given a trial state outside
+/// the surface (g_k(0) > 0). The root lies in [0, q*/(3G)] (g there is -sigma_y <= 0 for any
+/// non-negative yield law), so Newton with the analytic derivative g' = -3G - sigma_y' is kept inside
+/// the bracket and falls back to bisection when a step would leave it (e.g. the infinite slope of
+/// eps_p^n at eps_p = 0 for n < 1, or the kink of a cut-off rate term). Convergence is judged
+/// relative to sigma_y (unit-free); when sigma_y = 0 (above the melting temperature) g is linear and
+/// the first step is exact, judged against round-off of q*.
+/// Accepting a step without evaluating it (eq. 34a): after the Newton step d -> d' the residual is
+/// the Taylor remainder, |g(d')| <= M (d' - d)^2 / 2 with M >= |sigma_y''| between d and d', which
+/// `yield.curvature_bound(k, y, d, d')` returns from the values already computed at d (infinity
+/// where the law has no cheap bound). When that bound already meets the tolerance, d' is returned with
+/// sigma_y = q* - 3 G d' (so the stress lies on the surface within the bound) and the evaluation that
+/// would only have confirmed it is saved: one of three for Johnson-Cook, one of two for linear hardening.
+/// Why lanes: one particle's iterations form a dependent chain whose latency, not arithmetic, sets
+/// the cost; sweeping the still-unconverged lanes each iteration keeps several independent chains
+/// in flight. Each lane's arithmetic is exactly that of a return on its own (same iterates, same
+/// result bit for bit). The law works on whole lanes, so that it can batch its transcendental
+/// functions: `yield.evaluate(n, lanes, d, y)` sets y[k] (with members `stress`, sigma_y, and `slope`,
+/// d sigma_y / d d) for the n lanes k = lanes[0..n) at the increments d[k].
+/// Returns the number of lanes that hit the iteration cap (`converged` false in `r`).
 template <class YieldLaw>
-inline ReturnResult radial_return(double q_trial, double three_g, const YieldLaw& yield, double sigma_y0) {
-  ReturnResult r;
-  double lo = 0.0, hi = q_trial / three_g;
-  // First guess: the perfectly plastic increment; with hardening it overshoots (g <= 0 there).
-  double d = (q_trial - sigma_y0) / three_g;
-  const double roundoff = 4.0 * std::numeric_limits<double>::epsilon() * q_trial;
-  for (int it = 1; it <= kMaxIterations; ++it) {
-    const YieldValue y = yield(d);
-    const double g = q_trial - three_g * d - y.stress;
-    r.d_eps_p = d;
-    r.yield_stress = y.stress;
-    r.iterations = it;
-    if (std::abs(g) <= kYieldTolerance * y.stress || std::abs(g) <= roundoff) return r;
-    if (g > 0.0) lo = d; else hi = d;
-    const double next = d + g / (three_g + y.slope);
-    d = (next > lo && next < hi) ? next : 0.5 * (lo + hi);
+inline int radial_returns(int count, const double* q_trial, const double* sigma_y0, double three_g,
+                          const YieldLaw& yield, ReturnResult* r) {
+  typename YieldLaw::Value y_of[kReturnBlock];
+  double lo[kReturnBlock], hi[kReturnBlock], d[kReturnBlock], roundoff[kReturnBlock];
+  int active[kReturnBlock];
+  for (int k = 0; k < count; ++k) {
+    lo[k] = 0.0;
+    hi[k] = q_trial[k] / three_g;
+    // First guess: the perfectly plastic increment; with hardening it overshoots (g <= 0 there).
+    d[k] = (q_trial[k] - sigma_y0[k]) / three_g;
+    roundoff[k] = 4.0 * std::numeric_limits<double>::epsilon() * q_trial[k];
+    active[k] = k;
   }
-  r.converged = false;
-  return r;
+  int n_active = count;
+  for (int it = 1; it <= kMaxIterations && n_active > 0; ++it) {
+    int still = 0;  // the unconverged lanes are compacted to the front of `active`
+    yield.evaluate(n_active, active, d, y_of);
+    for (int a = 0; a < n_active; ++a) {
+      const int k = active[a];
+      const auto& y = y_of[k];
+      const double g = q_trial[k] - three_g * d[k] - y.stress;
+      r[k].d_eps_p = d[k];
+      r[k].yield_stress = y.stress;
+      r[k].iterations = it;
+      r[k].converged = true;
+      if (std::abs(g) <= kYieldTolerance * y.stress || std::abs(g) <= roundoff[k]) continue;
+      if (g > 0.0) lo[k] = d[k]; else hi[k] = d[k];
+      const double next = d[k] + g / (three_g + y.slope);
+      if (next > lo[k] && next < hi[k]) {
+        const double step = next - d[k];
+        const double remainder = 0.5 * yield.curvature_bound(k, y, d[k], next) * step * step;  // eq. 34a
+        const double sigma_next = q_trial[k] - three_g * next;  // = sigma_y(d') - g(d')
+        if (remainder <= kYieldTolerance * (sigma_next - remainder)) {
+          r[k].d_eps_p = next;
+          r[k].yield_stress = sigma_next;
+          continue;
+        }
+        d[k] = next;
+      } else {
+        d[k] = 0.5 * (lo[k] + hi[k]);
+      }
+      active[still++] = k;
+    }
+    n_active = still;
+  }
+  for (int a = 0; a < n_active; ++a) r[active[a]].converged = false;
+  return n_active;
 }
 
 /// Scales the trial deviatoric stress back onto the surface: S = S* sigma_y / q* (eq. 35).

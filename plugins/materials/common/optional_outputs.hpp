@@ -76,30 +76,53 @@ class OptionalOutputs {
   bool rate_ = false, von_mises_ = false, yield_ = false;
 };
 
-/// The plastic part of one particle's stress update, common to every J2 material: when the trial
-/// von Mises stress q exceeds `yield` (the yield stress at zero plastic increment), the Newton return
-/// with `yield_at(d)` (eq. 34), the scaling onto the surface (eq. 35), the plastic strain, the plastic
-/// heat beta sigma_y epsdot_p per unit mass (eq. 37); then the optional outputs. s: the particle's trial
-/// deviator, eps its plastic strain. Returns false when the return hit its iteration cap.
-template <class YieldAt>
-inline bool plastic_correction(const MaterialBatch& b, const OptionalOutputs::Arrays& out, std::size_t i, double* s,
-                               double q, double eps, double yield, double three_g, double inv_dt, double beta,
-                               const YieldAt& yield_at) {
-  double rate = 0.0, sigma_y = yield;
-  bool converged = true;
-  if (q > yield) {
-    const ReturnResult r = radial_return(q, three_g, yield_at, yield);  // eq. 34
-    converged = r.converged;
-    scale_to_surface(s, q, r.yield_stress);  // eq. 35
-    out.plastic_strain[i] = eps + r.d_eps_p;
-    sigma_y = r.yield_stress;
-    rate = r.d_eps_p * inv_dt;
-    if (b.heat_source) b.heat_source[i] += beta * sigma_y * rate / b.density[i];  // eq. 37
+/// The trial states of one block of particles (at most kReturnBlock, consecutive from `first`) that lie
+/// outside the yield surface: the lanes of the interleaved return (eq. 34). A plugin adds its own
+/// per-lane data (e.g. the thermal factor) in arrays indexed by the same lane.
+struct PlasticLanes {
+  int count = 0;
+  std::size_t particle[kReturnBlock];  ///< index in the batch
+  double q[kReturnBlock];              ///< trial von Mises stress (Pa)
+  double eps[kReturnBlock];            ///< plastic strain at the start of the step
+  double yield0[kReturnBlock];         ///< yield stress at zero plastic increment (Pa)
+  int add(std::size_t i, double q_trial, double eps_p, double yield) {
+    particle[count] = i;
+    q[count] = q_trial;
+    eps[count] = eps_p;
+    yield0[count] = yield;
+    return count++;
   }
-  if (out.plastic_strain_rate) out.plastic_strain_rate[i] = rate / b.time_scaling;
-  if (out.von_mises_stress) out.von_mises_stress[i] = std::min(q, sigma_y);
-  if (out.yield_stress) out.yield_stress[i] = sigma_y;
-  return converged;
+};
+
+/// The outputs of a particle whose trial state is inside the surface (elastic step): no plastic rate,
+/// the trial von Mises stress, the yield stress at zero increment.
+inline void elastic_outputs(const OptionalOutputs::Arrays& out, std::size_t i, double q, double yield) {
+  if (out.plastic_strain_rate) out.plastic_strain_rate[i] = 0.0;
+  if (out.von_mises_stress) out.von_mises_stress[i] = std::min(q, yield);
+  if (out.yield_stress) out.yield_stress[i] = yield;
+}
+
+/// The plastic part of the stress update of a block's plastic lanes, common to every J2 material: the
+/// Newton returns with `yield_at(k, d)` (eq. 34), the scaling onto the surface (eq. 35), the plastic
+/// strain, the plastic heat beta sigma_y epsdot_p per unit mass (eq. 37); then the optional outputs.
+/// The particles' deviatoric stresses hold their trial values on entry. Returns the number of
+/// returns that hit the iteration cap.
+template <class YieldAt>
+inline int plastic_correction(const MaterialBatch& b, const OptionalOutputs::Arrays& out, const PlasticLanes& lanes,
+                              double three_g, double inv_dt, double beta, const YieldAt& yield_at) {
+  ReturnResult r[kReturnBlock];
+  const int failed = radial_returns(lanes.count, lanes.q, lanes.yield0, three_g, yield_at, r);  // eq. 34
+  for (int k = 0; k < lanes.count; ++k) {
+    const std::size_t i = lanes.particle[k];
+    const double sigma_y = r[k].yield_stress, rate = r[k].d_eps_p * inv_dt;
+    scale_to_surface(b.deviatoric_stress + 6 * i, lanes.q[k], sigma_y);  // eq. 35
+    out.plastic_strain[i] = lanes.eps[k] + r[k].d_eps_p;
+    if (b.heat_source) b.heat_source[i] += beta * sigma_y * rate / b.density[i];  // eq. 37
+    if (out.plastic_strain_rate) out.plastic_strain_rate[i] = rate / b.time_scaling;
+    if (out.von_mises_stress) out.von_mises_stress[i] = sigma_y;
+    if (out.yield_stress) out.yield_stress[i] = sigma_y;
+  }
+  return failed;
 }
 
 }  // namespace sphforge::j2

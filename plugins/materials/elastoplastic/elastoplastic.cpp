@@ -62,18 +62,37 @@ class Elastoplastic final : public Material {
     const double two_g_dt = 2.0 * G_ * b.dt, three_g = 3.0 * G_;
     const double y0 = yield0_, H = hardening_, beta = taylor_quinney_, inv_dt = 1.0 / b.dt;
     long long failed = 0;
+    // Blocks of particles: the trial states first, then the returns of the block's plastic particles
+    // (plugins/materials/common/j2_plasticity.hpp).
 #pragma omp parallel for schedule(static) reduction(+ : failed)
-    for (std::size_t i = 0; i < b.count; ++i) {
-      double* s = b.deviatoric_stress + 6 * i;
-      j2::elastic_predictor(b.velocity_gradient + 9 * i, two_g_dt, s);  // eq. 15
-      const double q = j2::von_mises(s);
-      const double eps = out.plastic_strain[i];
-      const double yield = y0 + H * eps;  // eq. 33a
+    for (std::size_t first = 0; first < b.count; first += j2::kReturnBlock) {
+      const std::size_t last = std::min(b.count, first + j2::kReturnBlock);
+      j2::PlasticLanes lanes;
+      for (std::size_t i = first; i < last; ++i) {
+        double* s = b.deviatoric_stress + 6 * i;
+        j2::elastic_predictor(b.velocity_gradient + 9 * i, two_g_dt, s);  // eq. 15
+        const double q = j2::von_mises(s);
+        const double eps = out.plastic_strain[i];
+        const double yield = y0 + H * eps;  // eq. 33a
+        if (q > yield)
+          lanes.add(i, q, eps, yield);
+        else
+          j2::elastic_outputs(out, i, q, yield);
+        b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
+      }
       // Linear hardening: sigma_y(d) = y0 + H (eps_p + d), slope H; the Newton return of eq. 34 is
-      // exact after one correction (g is linear in d).
-      const auto hardening = [&](double d) { return j2::YieldValue{yield + H * d, H}; };
-      failed += j2::plastic_correction(b, out, i, s, q, eps, yield, three_g, inv_dt, beta, hardening) ? 0 : 1;
-      b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
+      // exact after one correction (g is linear in d), which its zero curvature (eq. 34a) accepts
+      // without a second evaluation.
+      struct LinearHardening {
+        const j2::PlasticLanes& lanes;
+        double H;
+        using Value = j2::YieldValue;
+        void evaluate(int n, const int* lane, const double* d, Value* y) const {
+          for (int a = 0; a < n; ++a) y[lane[a]] = {lanes.yield0[lane[a]] + H * d[lane[a]], H};
+        }
+        double curvature_bound(int, const j2::YieldValue&, double, double) const { return 0.0; }
+      };
+      failed += j2::plastic_correction(b, out, lanes, three_g, inv_dt, beta, LinearHardening{lanes, H});
     }
     failed_ += failed;
     failure_.update(b, out.plastic_strain);  // eq. 110
