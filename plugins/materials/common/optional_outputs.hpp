@@ -76,7 +76,7 @@ class OptionalOutputs {
   bool rate_ = false, von_mises_ = false, yield_ = false;
 };
 
-/// The trial states of one block of particles (at most kReturnBlock, consecutive from `first`) that lie
+/// The trial states of one block of at most kReturnBlock consecutive particles that lie
 /// outside the yield surface: the lanes of the interleaved return (eq. 34). A plugin adds its own
 /// per-lane data (e.g. the thermal factor) in arrays indexed by the same lane.
 struct PlasticLanes {

@@ -2,7 +2,8 @@
 // follows Johnson and Cook (1983),
 //   sigma_y = (A + B eps_p^n) R(epsdot_p) Theta(T)                              (eq. 36)
 //   R = max(1, 1 + C ln(epsdot_p / epsdot_0)),  Theta = 1 - Th^m,  Th = clamp((T - T_ref)/(T_m - T_ref), 0, 1)
-// with the radial return of plugins/materials/common/j2_plasticity.hpp (eqs. 33-35), plastic heat
+// with the radial return of plugins/materials/common/j2_plasticity.hpp (eqs. 33-35; in blocks, with the
+// step acceptance of eq. 34a by the curvature bound of eq. 36a and vector log/exp, eq. 36b), plastic heat
 // (eq. 37) and thermal properties linear in Th (eq. 38). docs/theory.md section 5.
 // Parameter sets of the bundled processes (AA7075-T6, HX220, brass): docs/theory.md section 5,
 // from /work/shared/reference (friction_extrusion.md, friction_drilling.md,
@@ -25,14 +26,6 @@ using namespace sphforge;
 /// trial increment d, with the thermal factor fixed over the step (the temperature is the step's).
 struct JohnsonCookLaw {
   double A, B, n, C, rate_ref, m;
-
-  /// Thermal factor Theta = 1 - Th^m (eq. 36); Th clamped to [0, 1]: below T_ref no extra
-  /// strength, at or above T_m none at all (no pow of a negative number, no NaN).
-  static double softening(double Th, double m) {
-    if (Th <= 0.0) return 1.0;
-    if (Th >= 1.0) return 0.0;
-    return 1.0 - std::exp(m * std::log(Th));  // Th^m; see operator() for exp(m ln Th)
-  }
 
   /// sigma_y and its slope d sigma_y / d d, with the factors they are made of (kept for the curvature
   /// bound below, which then needs no further logarithm or power).
@@ -73,16 +66,6 @@ struct JohnsonCookLaw {
       dR = C / d;  // d/dd [C ln(d / (dt f epsdot_0))]
     }
     return {hard * R * theta, (dhard * R + hard * dR) * theta, hard, dhard, R, dR};
-  }
-
-  /// sigma_y and d sigma_y / d d at eps_p + d and the plastic rate d / dt_phys (eq. 36).
-  /// inv_dt_phys = 1 / (dt f): the rate term sees the physical rate (eq. 25). e^n as exp(n ln e): a
-  /// few ulp against pow's one, far below the 1e-10 of the return, at about half of pow's cost.
-  Value operator()(double eps, double d, double inv_dt_phys, double theta) const {
-    const double e = eps + d;
-    const double en = (B != 0.0 && e > 0.0) ? std::exp(n * std::log(e)) : 0.0;
-    const bool rate = rate_on(d, inv_dt_phys);
-    return combine(e, en, d, rate, rate ? std::log(d * inv_dt_phys / rate_ref) : 0.0, theta);
   }
 
   /// M >= |d^2 sigma_y / d d^2| for all increments between d and d_next (eq. 36a), from the factors
@@ -165,11 +148,33 @@ class JohnsonCook final : public Material {
     }
   }
 
+  /// Theta = 1 - Th^m (eq. 36) of `count` (<= j2::kReturnBlock) particles, T their temperatures (null
+  /// when isothermal: the law at T_ref, Theta = 1). Th clamped to [0, 1]: below T_ref no extra strength,
+  /// at or above T_m none at all (no power of a negative number, no NaN); between, Th^m = exp(m ln Th)
+  /// through the vector functions (eq. 36b). `work`: scratch of vmath::padded(count) entries.
+  void thermal_factors(int count, const double* T, double* theta, double* work) const {
+    if (!T) {
+      std::fill(theta, theta + count, 1.0);
+      return;
+    }
+    const int padded = vmath::padded(count);
+    const double inv_range = 1.0 / (T_melt_ - T_ref_);
+    for (int k = 0; k < padded; ++k) {
+      const double Th = k < count ? (T[k] - T_ref_) * inv_range : 0.5;  // 0.5: padding
+      theta[k] = Th;
+      work[k] = (Th > 0.0 && Th < 1.0) ? Th : 0.5;
+    }
+    vmath::log(padded, work, work);
+    for (int k = 0; k < padded; ++k) work[k] *= law_.m;
+    vmath::exp(padded, work, work);
+    for (int k = 0; k < count; ++k) theta[k] = theta[k] <= 0.0 ? 1.0 : (theta[k] >= 1.0 ? 0.0 : 1.0 - work[k]);
+  }
+
   void update_stress(MaterialBatch& b) override {
     const j2::OptionalOutputs::Arrays out = outputs_.arrays(b);
     const double two_g_dt = 2.0 * G_ * b.dt, three_g = 3.0 * G_;
     const double inv_dt = 1.0 / b.dt, inv_dt_phys = inv_dt / b.time_scaling;
-    const double inv_range = 1.0 / (T_melt_ - T_ref_), beta = taylor_quinney_;
+    const double beta = taylor_quinney_;
     const JohnsonCookLaw law = law_;
     const double* T = b.temperature;  // null when isothermal: the law at T_ref (Theta = 1)
     long long failed = 0;
@@ -190,21 +195,7 @@ class JohnsonCook final : public Material {
         eps[k] = out.plastic_strain[i];
         b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
       }
-      // Theta = 1 - Th^m (eq. 36), Th^m = exp(m ln Th) for 0 < Th < 1 (the clamped ends exactly).
-      if (T) {
-        for (int k = 0; k < padded; ++k) {
-          const double Th = k < count ? (T[first + k] - T_ref_) * inv_range : 0.5;  // 0.5: padding
-          theta[k] = Th;
-          work[k] = (Th > 0.0 && Th < 1.0) ? Th : 0.5;
-        }
-        vmath::log(padded, work, work);
-        for (int k = 0; k < padded; ++k) work[k] *= law.m;
-        vmath::exp(padded, work, work);
-        for (int k = 0; k < count; ++k)
-          theta[k] = theta[k] <= 0.0 ? 1.0 : (theta[k] >= 1.0 ? 0.0 : 1.0 - work[k]);
-      } else {
-        for (int k = 0; k < count; ++k) theta[k] = 1.0;  // isothermal: the law at T_ref
-      }
+      thermal_factors(count, T ? T + first : nullptr, theta, work);
       // eps_p^n for the elastic check (eq. 36 at d = 0).
       if (law.B != 0.0) law.powers(padded, count, eps, eps_n, work);
       else std::fill(eps_n, eps_n + count, 0.0);
@@ -260,11 +251,17 @@ class JohnsonCook final : public Material {
     const double* eps_p = b.fields->f64(field::plastic_strain) + b.first;
     const double* rate = b.fields->f64_if(j2::output::plastic_strain_rate);
     if (rate) rate += b.first;
-    const double inv_range = 1.0 / (T_melt_ - T_ref_);
-    for (std::size_t i = 0; i < b.count; ++i) {
-      const double theta = b.temperature ? JohnsonCookLaw::softening((b.temperature[i] - T_ref_) * inv_range, law_.m) : 1.0;
-      out[i] = law_(eps_p[i], 0.0, 1.0, theta).stress;
-      if (rate && law_.C != 0.0 && rate[i] > law_.rate_ref) out[i] *= 1.0 + law_.C * std::log(rate[i] / law_.rate_ref);
+    for (std::size_t first = 0; first < b.count; first += j2::kReturnBlock) {
+      const int count = static_cast<int>(std::min<std::size_t>(b.count - first, j2::kReturnBlock));
+      alignas(64) double theta[j2::kReturnBlock], eps_n[j2::kReturnBlock], work[j2::kReturnBlock];
+      thermal_factors(count, b.temperature ? b.temperature + first : nullptr, theta, work);
+      if (law_.B != 0.0) law_.powers(vmath::padded(count), count, eps_p + first, eps_n, work);
+      else std::fill(eps_n, eps_n + count, 0.0);
+      for (int k = 0; k < count; ++k) {
+        const std::size_t i = first + k;
+        out[i] = law_.combine(eps_p[i], eps_n[k], 0.0, false, 0.0, theta[k]).stress;
+        if (rate && law_.C != 0.0 && rate[i] > law_.rate_ref) out[i] *= 1.0 + law_.C * std::log(rate[i] / law_.rate_ref);
+      }
     }
   }
 
