@@ -60,7 +60,7 @@ class Elastoplastic final : public Material {
   void update_stress(MaterialBatch& b) override {
     const j2::OptionalOutputs::Arrays out = outputs_.arrays(b);
     const double two_g_dt = 2.0 * G_ * b.dt, three_g = 3.0 * G_;
-    const double y0 = yield0_, H = hardening_, beta = taylor_quinney_, inv_dt = 1.0 / b.dt;
+    const double y0 = yield0_, H = hardening_, beta = taylor_quinney_, inv_dt = 1.0 / b.dt, inv_rho0 = 1.0 / rho0_;
     long long failed = 0;
     // Blocks of particles: the trial states first, then the returns of the block's plastic particles
     // (plugins/materials/common/j2_plasticity.hpp).
@@ -78,7 +78,7 @@ class Elastoplastic final : public Material {
           lanes.add(i, q, eps, yield);
         else
           j2::elastic_outputs(out, i, q, yield);
-        b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
+        b.pressure[i] = j2::linear_pressure(K_, b.density[i], inv_rho0);  // eq. 17
       }
       // Linear hardening: sigma_y(d) = y0 + H (eps_p + d), slope H; the Newton return of eq. 34 is
       // exact after one correction (g is linear in d), which its zero curvature (eq. 34a) accepts

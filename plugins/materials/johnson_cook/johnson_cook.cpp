@@ -33,6 +33,7 @@ struct JohnsonCookLaw {
     double stress, slope;  ///< sigma_y (Pa), d sigma_y / d d (Pa)
     double hard, dhard;    ///< A + B e^n and its derivative n B e^(n-1), e = eps_p + d
     double R, dR;          ///< rate factor and d R / d d (0 below the cut-off)
+    double inv_e, inv_d;   ///< 1/e and 1/d where they were needed (else 0), reused by the bound
   };
 
   /// en[i] = e[i]^n = exp(n ln e[i]) for the first `count` of `padded` entries (eq. 36b), through the
@@ -55,17 +56,19 @@ struct JohnsonCookLaw {
   /// en = e^n at e = eps_p + d (unused when B = 0 or e = 0) and log_rate = ln(epsdot_p / epsdot_0)
   /// (unused when the rate term is off).
   Value combine(double e, double en, double d, bool rate, double log_rate, double theta) const {
-    double hard = A, dhard = 0.0;
+    double hard = A, dhard = 0.0, inv_e = 0.0;
     if (B != 0.0 && e > 0.0) {
+      inv_e = 1.0 / e;
       hard += B * en;
-      dhard = B * n * en / e;
+      dhard = B * n * en * inv_e;
     }
-    double R = 1.0, dR = 0.0;
+    double R = 1.0, dR = 0.0, inv_d = 0.0;
     if (rate) {  // below the cut-off R = 1 (never below 1)
+      inv_d = 1.0 / d;
       R = 1.0 + C * log_rate;
-      dR = C / d;  // d/dd [C ln(d / (dt f epsdot_0))]
+      dR = C * inv_d;  // d/dd [C ln(d / (dt f epsdot_0))]
     }
-    return {hard * R * theta, (dhard * R + hard * dR) * theta, hard, dhard, R, dR};
+    return {hard * R * theta, (dhard * R + hard * dR) * theta, hard, dhard, R, dR, inv_e, inv_d};
   }
 
   /// M >= |d^2 sigma_y / d d^2| for all increments between d and d_next (eq. 36a), from the factors
@@ -84,7 +87,7 @@ struct JohnsonCookLaw {
       const bool rate_on = d * inv_dt_phys > rate_ref;
       if (rate_on != (d_next * inv_dt_phys > rate_ref)) return no_bound;
       if (rate_on) {
-        const double inv_a = 1.0 / a;
+        const double inv_a = step > 0.0 ? y.inv_d : 1.0 / a;  // a = d: known from the evaluation
         dR_max = C * inv_a;
         d2R_max = dR_max * inv_a;
         if (step > 0.0) R_max = y.R + y.dR * step;
@@ -93,8 +96,9 @@ struct JohnsonCookLaw {
     double h_max = y.hard, dh_max = y.dhard, d2h_max = 0.0;
     if (B != 0.0) {
       const double e_a = eps + a;
-      if (!(e_a > 0.0)) return no_bound;
-      const double inv_e_a = 1.0 / e_a, ratio = (eps + d) * inv_e_a;  // ratio = e / e_a >= 1
+      if (!(e_a > 0.0) || !(y.inv_e > 0.0)) return no_bound;
+      const double inv_e_a = step > 0.0 ? y.inv_e : 1.0 / e_a;  // a = d: e_a = e
+      const double ratio = step > 0.0 ? 1.0 : (eps + d) * inv_e_a;  // e / e_a >= 1
       dh_max = y.dhard * ratio;
       d2h_max = (1.0 - n) * dh_max * inv_e_a;  // n (1 - n) B e^(n-2) = (1 - n) h' / e, times (e/e_a)^2
       if (step > 0.0) h_max = y.hard + y.dhard * step;
@@ -174,7 +178,7 @@ class JohnsonCook final : public Material {
     const j2::OptionalOutputs::Arrays out = outputs_.arrays(b);
     const double two_g_dt = 2.0 * G_ * b.dt, three_g = 3.0 * G_;
     const double inv_dt = 1.0 / b.dt, inv_dt_phys = inv_dt / b.time_scaling;
-    const double beta = taylor_quinney_;
+    const double beta = taylor_quinney_, inv_rho0 = 1.0 / rho0_;
     const JohnsonCookLaw law = law_;
     const double* T = b.temperature;  // null when isothermal: the law at T_ref (Theta = 1)
     long long failed = 0;
@@ -193,7 +197,7 @@ class JohnsonCook final : public Material {
         j2::elastic_predictor(b.velocity_gradient + 9 * i, two_g_dt, s);  // eq. 15
         q[k] = j2::von_mises(s);
         eps[k] = out.plastic_strain[i];
-        b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_);  // eq. 17
+        b.pressure[i] = j2::linear_pressure(K_, b.density[i], inv_rho0);  // eq. 17
       }
       thermal_factors(count, T ? T + first : nullptr, theta, work);
       // eps_p^n for the elastic check (eq. 36 at d = 0).
