@@ -35,9 +35,12 @@ inline ElasticModuli moduli_from_youngs(double youngs_modulus, double poisson_ra
   return {youngs_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio)), youngs_modulus / (2.0 * (1.0 + poisson_ratio))};
 }
 
-/// Linear equation of state p = K (rho/rho0 - 1) (eq. 17), with 1/rho0 precomputed (no division per particle).
-inline double linear_pressure(double bulk_modulus, double density, double inverse_reference_density) {
-  return bulk_modulus * (density * inverse_reference_density - 1.0);
+/// Linear equation of state p = K (rho/rho0 - 1) = K (rho - rho0) / rho0 (eq. 17), with 1/rho0
+/// precomputed (no division per particle); written with rho - rho0 so that p = 0 exactly at rho0 (a
+/// body at rest stays at rest to the bit: rho/rho0 - 1 by a product may round to +-1e-16).
+inline double linear_pressure(double bulk_modulus, double density, double reference_density,
+                              double inverse_reference_density) {
+  return bulk_modulus * (density - reference_density) * inverse_reference_density;
 }
 
 /// Yield stress after a plastic increment d and its derivative d sigma_y / d d (Pa).

@@ -78,7 +78,7 @@ class Elastoplastic final : public Material {
           lanes.add(i, q, eps, yield);
         else
           j2::elastic_outputs(out, i, q, yield);
-        b.pressure[i] = j2::linear_pressure(K_, b.density[i], inv_rho0);  // eq. 17
+        b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_, inv_rho0);  // eq. 17
       }
       // Linear hardening: sigma_y(d) = y0 + H (eps_p + d), slope H; the Newton return of eq. 34 is
       // exact after one correction (g is linear in d), which its zero curvature (eq. 34a) accepts

@@ -197,7 +197,7 @@ class JohnsonCook final : public Material {
         j2::elastic_predictor(b.velocity_gradient + 9 * i, two_g_dt, s);  // eq. 15
         q[k] = j2::von_mises(s);
         eps[k] = out.plastic_strain[i];
-        b.pressure[i] = j2::linear_pressure(K_, b.density[i], inv_rho0);  // eq. 17
+        b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_, inv_rho0);  // eq. 17
       }
       thermal_factors(count, T ? T + first : nullptr, theta, work);
       // eps_p^n for the elastic check (eq. 36 at d = 0).
