@@ -13,14 +13,26 @@ std::size_t NeighbourList::pairs() const {
   return total;
 }
 
-std::size_t NeighbourList::bytes() const {
-  std::size_t total = (end_.capacity() + chunk_used_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
-                       sorted_.capacity()) *
-                          sizeof(std::uint32_t) +
-                      base_.capacity() * sizeof(void*) + sorted_x_.capacity() * sizeof(float) +
-                      x_at_build_.capacity() * sizeof(double);
+std::size_t NeighbourList::list_bytes() const {
+  std::size_t total = 0;
   for (const auto& c : chunks_) total += c.capacity() * sizeof(std::uint32_t);
   return total;
+}
+
+std::size_t NeighbourList::index_bytes() const {
+  return (end_.capacity() + chunk_used_.capacity()) * sizeof(std::uint32_t) + base_.capacity() * sizeof(void*) +
+         chunks_.capacity() * sizeof(chunks_[0]);
+}
+
+std::size_t NeighbourList::build_scratch_bytes() const {
+  return (cell_of_.capacity() + cell_start_.capacity() + sorted_.capacity()) * sizeof(std::uint32_t) +
+         sorted_x_.capacity() * sizeof(float);
+}
+
+std::size_t NeighbourList::watch_bytes() const { return x_at_build_.capacity() * sizeof(double); }
+
+std::size_t NeighbourList::bytes() const {
+  return list_bytes() + index_bytes() + build_scratch_bytes() + watch_bytes();
 }
 
 bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius, double skin) const {
@@ -162,6 +174,17 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
           }
         }
       end_[i] = static_cast<std::uint32_t>(used);
+    }
+    // The growth steps above leave up to 1/8 of a chunk unused (10 % of the list memory after the
+    // first build). Trim a chunk that holds more than ~3 % spare to a 1/64 margin: one copy of that
+    // chunk, only after a build that grew it, and the next builds fill it in place.
+    const std::size_t keep = used + used / 64 + 256;
+    if (out.capacity() > keep + keep / 32) {
+      std::vector<std::uint32_t> trimmed;
+      trimmed.reserve(keep);
+      trimmed.assign(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(used));
+      trimmed.resize(keep);
+      out.swap(trimmed);
     }
     chunk_used_[c] = static_cast<std::uint32_t>(used);
     base_[c] = out.data();

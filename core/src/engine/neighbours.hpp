@@ -4,8 +4,9 @@
 // depend on the number of threads.
 //
 // Storage: the lists of particles [c * kChunk, (c + 1) * kChunk) lie back to back in chunk c's
-// own array, so that the chunks are filled in parallel in a single sweep (no counting pass and no
-// copy), and end_[i] is the end of particle i's list within its chunk.
+// own array, so that the chunks are filled in parallel in a single sweep (no counting pass), and
+// end_[i] is the end of particle i's list within its chunk. A chunk that grew during a build is
+// trimmed to a 1/64 margin afterwards (one copy), so that the lists hold little unused memory.
 #pragma once
 
 #include <cstddef>
@@ -42,8 +43,17 @@ class NeighbourList {
   }
   const std::uint32_t* end(std::size_t i) const { return base_[i / kChunk] + end_[i]; }
   std::size_t pairs() const;
-  /// Memory held (lists, cell-list scratch, positions at the last build), in bytes.
+  /// Memory held (lists, cell-list scratch, positions at the last build), in bytes: the sum of
+  /// the four parts below.
   std::size_t bytes() const;
+  /// The list entries (capacity of the chunks; pairs() * 4 of it in use).
+  std::size_t list_bytes() const;
+  /// The per-particle list ends and the per-chunk bookkeeping.
+  std::size_t index_bytes() const;
+  /// Scratch of the cell-list build (cell of each particle, cell starts, sorted indices and positions).
+  std::size_t build_scratch_bytes() const;
+  /// The positions at the last build that needs_rebuild() compares with.
+  std::size_t watch_bytes() const;
 
  private:
   std::vector<std::uint32_t> end_;                 // end of i's list within its chunk
