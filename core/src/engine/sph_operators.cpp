@@ -82,9 +82,10 @@ struct GradientArgs {
 
 // Failure: the loops with the bond rule of eq. 112 are separate instances, so that a scene without
 // failure runs exactly the loops it ran before (no load, no multiplication, no branch).
-template <KernelKind K, bool Corrected, bool Failure>
-SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, const PairKernel<K>& kernel,
-                                                       std::size_t i) {
+// Wide: the particle's list stores full indices (engine/neighbours.hpp); instantiated both ways.
+template <KernelKind K, bool Corrected, bool Failure, bool Wide>
+SPHFORGE_ALWAYS_INLINE void velocity_gradient_row(const GradientArgs& g, const PairKernel<K>& kernel, std::size_t i,
+                                                  const NeighbourList::Row& row) {
   const double* x = g.x;
   const double* v = g.v;
   const double* volume = g.volume;
@@ -94,8 +95,9 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
   double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, m5 = 0;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
   const double vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
-  const std::uint32_t* const nb = g.nl->begin(i);
-  const std::ptrdiff_t count = g.nl->end(i) - nb;
+  const std::uint16_t* const nb = row.entries;
+  const std::size_t base = row.base;
+  const std::ptrdiff_t count = row.count;
   double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
   if constexpr (Failure) {
     for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
@@ -103,7 +105,7 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
   }
 #pragma omp simd reduction(+ : l0, l1, l2, l3, l4, l5, l6, l7, l8, m0, m1, m2, m3, m4, m5)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
-    const std::size_t j = nb[k];
+    const std::size_t j = Wide ? (std::size_t{nb[2 * k]} | std::size_t{nb[2 * k + 1]} << 16) : base + nb[k];
     const double x0 = xi0 - x[3 * j], x1 = xi1 - x[3 * j + 1], x2 = xi2 - x[3 * j + 2];
     const double r2 = x0 * x0 + x1 * x1 + x2 * x2;
     double f = kernel.factor(r2) * volume[j];  // V_j (dW/dr)/r; 0 beyond the support
@@ -164,6 +166,14 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
 }
 
 template <KernelKind K, bool Corrected, bool Failure>
+SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, const PairKernel<K>& kernel,
+                                                       std::size_t i) {
+  const NeighbourList::Row row = g.nl->row(i);
+  if (row.wide) velocity_gradient_row<K, Corrected, Failure, true>(g, kernel, i, row);
+  else velocity_gradient_row<K, Corrected, Failure, false>(g, kernel, i, row);
+}
+
+template <KernelKind K, bool Corrected, bool Failure>
 void velocity_gradient_generic(const GradientArgs& g, double h) {
   const PairKernel<K> kernel(h);
 #pragma omp parallel for schedule(dynamic, 512)
@@ -207,8 +217,9 @@ struct MomentumArgs {
 
 /// Exponent: 0 without artificial stress, 4 for the usual n = 4 (multiplications), -1 for any
 /// other n (pow). Failure: the bond rule of eq. 112 (a separate instance, see the gradient).
-template <KernelKind K, int Exponent, bool Failure>
-SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
+template <KernelKind K, int Exponent, bool Failure, bool Wide>
+SPHFORGE_ALWAYS_INLINE void momentum_row(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i,
+                                         const NeighbourList::Row& row) {
   constexpr bool kStress = Exponent != 0;
   const double* x = g.x;
   const double* v = g.v;
@@ -226,8 +237,9 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   for (int c = 0; c < 9; ++c) ai[c] = stress_c[9 * i + c];
   for (int c = 0; c < 6; ++c) Ri[c] = kStress ? R[6 * i + c] : 0.0;
   double a0 = 0, a1 = 0, a2 = 0;
-  const std::uint32_t* const nb = g.nl->begin(i);
-  const std::ptrdiff_t count = g.nl->end(i) - nb;
+  const std::uint16_t* const nb = row.entries;
+  const std::size_t base = row.base;
+  const std::ptrdiff_t count = row.count;
   double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
   if constexpr (Failure) {
     for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
@@ -235,7 +247,7 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   }
 #pragma omp simd reduction(+ : a0, a1, a2)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
-    const std::size_t j = nb[k];
+    const std::size_t j = Wide ? (std::size_t{nb[2 * k]} | std::size_t{nb[2 * k + 1]} << 16) : base + nb[k];
     const double x0 = xi0 - x[3 * j], x1 = xi1 - x[3 * j + 1], x2 = xi2 - x[3 * j + 2];
     const double r2 = x0 * x0 + x1 * x1 + x2 * x2;
     // grad_i W_ij = gw * x_ij. Pairs in the Verlet skin (gw = 0) run through too and add an
@@ -292,6 +304,13 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   g.acc[3 * i] = a0;
   g.acc[3 * i + 1] = a1;
   g.acc[3 * i + 2] = a2;
+}
+
+template <KernelKind K, int Exponent, bool Failure>
+SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
+  const NeighbourList::Row row = g.nl->row(i);
+  if (row.wide) momentum_row<K, Exponent, Failure, true>(g, kernel, i, row);
+  else momentum_row<K, Exponent, Failure, false>(g, kernel, i, row);
 }
 
 template <KernelKind K, int Exponent, bool Failure>
