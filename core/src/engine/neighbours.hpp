@@ -8,8 +8,8 @@
 // a list is stored as its smallest index, the base, and one 16-bit offset per neighbour
 // (j = base + offset): 2 bytes per pair instead of 4. A list that spans more than 65,535 indices
 // (under 1 % of the particles in the benchmark block) is "wide": each neighbour is then two 16-bit
-// halves (low, high) of its index. The pair loops are instantiated for both forms
-// (Row::wide) and read the same neighbours in the same order either way.
+// halves (low, high) of its index. The pair loops decode() a particle's list into 32-bit indices
+// on the stack first and read the same neighbours in the same order either way.
 // The lists of particles [c * kChunk, (c + 1) * kChunk) lie back to back in chunk c's own array,
 // so that the chunks are filled in parallel in a single sweep (no counting pass), and end_[i] is
 // the end of particle i's list within its chunk (in 16-bit units). A chunk that grew during a
@@ -64,6 +64,17 @@ class NeighbourList {
     const std::uint32_t units = static_cast<std::uint32_t>(chunk_data_[i / kChunk] + end_[i] - first);
     const bool wide = (base_of_[i] & kWide) != 0;
     return {first, wide ? 0u : base_of_[i], wide ? units / 2 : units, wide};
+  }
+  /// Writes i's neighbour indices, in list order, to out (room for size(i)); returns their number.
+  /// The pair loops decode a list into a small buffer and then run over plain 32-bit indices: the
+  /// same loop, vectorised the same way, as over a 32-bit list, so the sums are the same to the bit.
+  std::size_t decode(std::size_t i, std::uint32_t* out) const {
+    const Row r = row(i);
+    if (r.wide)
+      for (std::uint32_t k = 0; k < r.count; ++k) out[k] = r[k];
+    else
+      for (std::uint32_t k = 0; k < r.count; ++k) out[k] = r.base + r.entries[k];
+    return r.count;
   }
   /// Number of neighbours of i.
   std::size_t size(std::size_t i) const { return row(i).count; }

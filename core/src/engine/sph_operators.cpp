@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
@@ -72,6 +73,27 @@ bool cpu_has_avx2_fma() { return false; }
 #endif
 #define SPHFORGE_ALWAYS_INLINE __attribute__((always_inline)) inline
 
+// One particle's neighbour list decoded to 32-bit indices (engine/neighbours.hpp, section 7): on
+// the stack for the usual lengths, in a per-thread buffer for a longer list (grown once). The pair
+// loops below then run over plain indices.
+struct DecodedList {
+  static constexpr std::size_t kInline = 1024;
+  std::uint32_t local[kInline];
+  const std::uint32_t* indices;
+  std::size_t count;
+  DecodedList(const NeighbourList& nl, std::size_t i) {
+    const std::size_t n = nl.size(i);
+    std::uint32_t* out = local;
+    if (n > kInline) {
+      static thread_local std::vector<std::uint32_t> spill;
+      if (spill.size() < n) spill.resize(n);
+      out = spill.data();
+    }
+    count = nl.decode(i, out);
+    indices = out;
+  }
+};
+
 struct GradientArgs {
   const NeighbourList* nl;
   const double *x, *v, *volume;
@@ -82,10 +104,9 @@ struct GradientArgs {
 
 // Failure: the loops with the bond rule of eq. 112 are separate instances, so that a scene without
 // failure runs exactly the loops it ran before (no load, no multiplication, no branch).
-// Wide: the particle's list stores full indices (engine/neighbours.hpp); instantiated both ways.
-template <KernelKind K, bool Corrected, bool Failure, bool Wide>
-SPHFORGE_ALWAYS_INLINE void velocity_gradient_row(const GradientArgs& g, const PairKernel<K>& kernel, std::size_t i,
-                                                  const NeighbourList::Row& row) {
+template <KernelKind K, bool Corrected, bool Failure>
+SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, const PairKernel<K>& kernel,
+                                                       std::size_t i) {
   const double* x = g.x;
   const double* v = g.v;
   const double* volume = g.volume;
@@ -95,9 +116,9 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_row(const GradientArgs& g, const P
   double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, m5 = 0;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
   const double vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
-  const std::uint16_t* const nb = row.entries;
-  const std::size_t base = row.base;
-  const std::ptrdiff_t count = row.count;
+  DecodedList list(*g.nl, i);
+  const std::uint32_t* const nb = list.indices;
+  const std::ptrdiff_t count = list.count;
   double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
   if constexpr (Failure) {
     for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
@@ -105,7 +126,7 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_row(const GradientArgs& g, const P
   }
 #pragma omp simd reduction(+ : l0, l1, l2, l3, l4, l5, l6, l7, l8, m0, m1, m2, m3, m4, m5)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
-    const std::size_t j = Wide ? (std::size_t{nb[2 * k]} | std::size_t{nb[2 * k + 1]} << 16) : base + nb[k];
+    const std::size_t j = nb[k];
     const double x0 = xi0 - x[3 * j], x1 = xi1 - x[3 * j + 1], x2 = xi2 - x[3 * j + 2];
     const double r2 = x0 * x0 + x1 * x1 + x2 * x2;
     double f = kernel.factor(r2) * volume[j];  // V_j (dW/dr)/r; 0 beyond the support
@@ -166,14 +187,6 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_row(const GradientArgs& g, const P
 }
 
 template <KernelKind K, bool Corrected, bool Failure>
-SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, const PairKernel<K>& kernel,
-                                                       std::size_t i) {
-  const NeighbourList::Row row = g.nl->row(i);
-  if (row.wide) velocity_gradient_row<K, Corrected, Failure, true>(g, kernel, i, row);
-  else velocity_gradient_row<K, Corrected, Failure, false>(g, kernel, i, row);
-}
-
-template <KernelKind K, bool Corrected, bool Failure>
 void velocity_gradient_generic(const GradientArgs& g, double h) {
   const PairKernel<K> kernel(h);
 #pragma omp parallel for schedule(dynamic, 512)
@@ -217,9 +230,8 @@ struct MomentumArgs {
 
 /// Exponent: 0 without artificial stress, 4 for the usual n = 4 (multiplications), -1 for any
 /// other n (pow). Failure: the bond rule of eq. 112 (a separate instance, see the gradient).
-template <KernelKind K, int Exponent, bool Failure, bool Wide>
-SPHFORGE_ALWAYS_INLINE void momentum_row(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i,
-                                         const NeighbourList::Row& row) {
+template <KernelKind K, int Exponent, bool Failure>
+SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
   constexpr bool kStress = Exponent != 0;
   const double* x = g.x;
   const double* v = g.v;
@@ -237,9 +249,9 @@ SPHFORGE_ALWAYS_INLINE void momentum_row(const MomentumArgs& g, const PairKernel
   for (int c = 0; c < 9; ++c) ai[c] = stress_c[9 * i + c];
   for (int c = 0; c < 6; ++c) Ri[c] = kStress ? R[6 * i + c] : 0.0;
   double a0 = 0, a1 = 0, a2 = 0;
-  const std::uint16_t* const nb = row.entries;
-  const std::size_t base = row.base;
-  const std::ptrdiff_t count = row.count;
+  DecodedList list(*g.nl, i);
+  const std::uint32_t* const nb = list.indices;
+  const std::ptrdiff_t count = list.count;
   double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
   if constexpr (Failure) {
     for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
@@ -247,7 +259,7 @@ SPHFORGE_ALWAYS_INLINE void momentum_row(const MomentumArgs& g, const PairKernel
   }
 #pragma omp simd reduction(+ : a0, a1, a2)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
-    const std::size_t j = Wide ? (std::size_t{nb[2 * k]} | std::size_t{nb[2 * k + 1]} << 16) : base + nb[k];
+    const std::size_t j = nb[k];
     const double x0 = xi0 - x[3 * j], x1 = xi1 - x[3 * j + 1], x2 = xi2 - x[3 * j + 2];
     const double r2 = x0 * x0 + x1 * x1 + x2 * x2;
     // grad_i W_ij = gw * x_ij. Pairs in the Verlet skin (gw = 0) run through too and add an
@@ -304,13 +316,6 @@ SPHFORGE_ALWAYS_INLINE void momentum_row(const MomentumArgs& g, const PairKernel
   g.acc[3 * i] = a0;
   g.acc[3 * i + 1] = a1;
   g.acc[3 * i + 2] = a2;
-}
-
-template <KernelKind K, int Exponent, bool Failure>
-SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
-  const NeighbourList::Row row = g.nl->row(i);
-  if (row.wide) momentum_row<K, Exponent, Failure, true>(g, kernel, i, row);
-  else momentum_row<K, Exponent, Failure, false>(g, kernel, i, row);
 }
 
 template <KernelKind K, int Exponent, bool Failure>
