@@ -3,7 +3,8 @@
 // Simulation::run for a fixed number of steps with every output pushed past the end. Reports
 // particle-steps/s over the step loop alone (the wall time summary.json reports: the scene build
 // and the first and last frames are outside it) and the memory held per particle (fields,
-// neighbour lists, scratch).
+// neighbour lists, scratch; the item-by-item breakdown of Simulation::memory_breakdown() goes to
+// stderr, docs/bench.md "Memory per particle"), with the process's peak resident growth to compare.
 //
 //   build/release/bin/sphforge_bench_step --benchmark_repetitions=3
 //
@@ -58,7 +59,7 @@ void BM_WholeStep(benchmark::State& state) {
       "run.max_steps=" + std::to_string(steps)};
   PluginLoader loader({SPHFORGE_PLUGIN_BUILD_DIR});
   double particles = 0.0, bytes = 0.0, field_bytes = 0.0, list_bytes = 0.0, pairs = 0.0, builds = 0.0;
-  double rss_growth = -1.0;
+  double rss_growth = -1.0, wide = 0.0;
   std::vector<Simulation::MemoryItem> breakdown;
   for (auto _ : state) {
     fs::remove_all(dir);
@@ -81,6 +82,7 @@ void BM_WholeStep(benchmark::State& state) {
     list_bytes = static_cast<double>(sim.neighbours().bytes());
     pairs = static_cast<double>(sim.neighbours().pairs());
     builds = static_cast<double>(sim.neighbour_builds());
+    wide = static_cast<double>(sim.neighbours().wide_rows());
     breakdown = sim.memory_breakdown();
     if (peak_reset) rss_growth = proc_status_bytes("VmHWM:") - rss_before;
   }
@@ -95,6 +97,8 @@ void BM_WholeStep(benchmark::State& state) {
   state.counters["list_bytes_per_particle"] = list_bytes * per;
   state.counters["scratch_bytes_per_particle"] = (bytes - field_bytes - list_bytes) * per;
   state.counters["neighbours_per_particle"] = pairs * per;
+  // Lists that span more than 65,535 indices and keep 4 bytes per entry (theory.md section 7).
+  state.counters["wide_list_fraction"] = wide * per;
   state.counters["steps_per_neighbour_build"] = builds > 0 ? double(steps) / builds : 0.0;
   // What the process really grew by, per particle (peak RSS over the run, scene build included,
   // minus the RSS before it); -1 when the peak could not be reset. Transients that memory_bytes()
