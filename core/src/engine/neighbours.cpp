@@ -198,12 +198,12 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
         }
       // Encode (section 7): offsets from the smallest index when the list spans at most 65,535
       // indices, else both halves of each index. The order of the neighbours is kept.
-      std::uint32_t lo = found > 0 ? cand[0] : 0u, hi = lo;
+      std::uint32_t jmin = found > 0 ? cand[0] : 0u, jmax = jmin;
       for (std::size_t k = 1; k < found; ++k) {
-        lo = std::min(lo, cand[k]);
-        hi = std::max(hi, cand[k]);
+        jmin = std::min(jmin, cand[k]);
+        jmax = std::max(jmax, cand[k]);
       }
-      const bool wide = hi - lo > 0xffffu;
+      const bool wide = jmax - jmin > 0xffffu;
       const std::size_t units = wide ? 2 * found : found;
       if (used + units > out.size()) {
         // Grow by 1/8 at a time (reserve first: resize() alone would double the capacity).
@@ -218,11 +218,11 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
           dst[2 * k + 1] = static_cast<std::uint16_t>(cand[k] >> 16);
         }
       } else {
-        for (std::size_t k = 0; k < found; ++k) dst[k] = static_cast<std::uint16_t>(cand[k] - lo);
+        for (std::size_t k = 0; k < found; ++k) dst[k] = static_cast<std::uint16_t>(cand[k] - jmin);
       }
       used += units;
       listed += found;
-      base_of_[i] = wide ? kWide : lo;
+      base_of_[i] = wide ? kWide : jmin;
       end_[i] = static_cast<std::uint32_t>(used);
     }
     // The growth steps above leave up to 1/8 of a chunk unused (10 % of the list memory after the
