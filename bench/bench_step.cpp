@@ -3,7 +3,8 @@
 // Simulation::run for a fixed number of steps with every output pushed past the end. Reports
 // particle-steps/s over the step loop alone (the wall time summary.json reports: the scene build
 // and the first and last frames are outside it) and the memory held per particle (fields,
-// neighbour lists, scratch).
+// neighbour lists, scratch; the item-by-item breakdown of Simulation::memory_breakdown() goes to
+// stderr, docs/bench.md "Memory per particle"), with the process's peak resident growth to compare.
 //
 //   build/release/bin/sphforge_bench_step --benchmark_repetitions=3
 //
@@ -15,6 +16,7 @@
 
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -28,6 +30,23 @@ namespace {
 using namespace sphforge;
 namespace fs = std::filesystem;
 
+// A kB figure of /proc/self/status ("VmRSS:", "VmHWM:"), in bytes; 0 when unavailable.
+double proc_status_bytes(const std::string& key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) return 1024.0 * std::stod(line.substr(key.size()));
+  return 0.0;
+}
+
+// Resets the peak resident set size (VmHWM) to the current one (Linux >= 4.0); false if refused.
+bool reset_peak_rss() {
+  std::ofstream out("/proc/self/clear_refs");
+  out << "5";
+  out.flush();
+  return static_cast<bool>(out);
+}
+
 void BM_WholeStep(benchmark::State& state) {
   const long long steps = state.range(0);
   const fs::path dir = fs::temp_directory_path() / ("sphforge_bench_step_" + std::to_string(::getpid()));
@@ -40,8 +59,14 @@ void BM_WholeStep(benchmark::State& state) {
       "run.max_steps=" + std::to_string(steps)};
   PluginLoader loader({SPHFORGE_PLUGIN_BUILD_DIR});
   double particles = 0.0, bytes = 0.0, field_bytes = 0.0, list_bytes = 0.0, pairs = 0.0, builds = 0.0;
+  double rss_growth = -1.0, wide = 0.0;
+  std::vector<Simulation::MemoryItem> breakdown;
   for (auto _ : state) {
     fs::remove_all(dir);
+    // The process's own growth over the run (peak minus the resident size before the scene is
+    // built: libraries, plugins and the allocator's earlier pools are not the particles').
+    const double rss_before = proc_status_bytes("VmRSS:");
+    const bool peak_reset = reset_peak_rss();
     Simulation sim(load_case(case_file, overrides), loader);
     const auto result = sim.run(dir, ProgressMode::Quiet);
     if (result.exit_code != 0) {
@@ -57,6 +82,9 @@ void BM_WholeStep(benchmark::State& state) {
     list_bytes = static_cast<double>(sim.neighbours().bytes());
     pairs = static_cast<double>(sim.neighbours().pairs());
     builds = static_cast<double>(sim.neighbour_builds());
+    wide = static_cast<double>(sim.neighbours().wide_rows());
+    breakdown = sim.memory_breakdown();
+    if (peak_reset) rss_growth = proc_status_bytes("VmHWM:") - rss_before;
   }
   fs::remove_all(dir);
   state.SetItemsProcessed(state.iterations() * steps * static_cast<int64_t>(particles));
@@ -67,8 +95,20 @@ void BM_WholeStep(benchmark::State& state) {
   state.counters["bytes_per_particle"] = bytes * per;
   state.counters["field_bytes_per_particle"] = field_bytes * per;
   state.counters["list_bytes_per_particle"] = list_bytes * per;
+  state.counters["scratch_bytes_per_particle"] = (bytes - field_bytes - list_bytes) * per;
   state.counters["neighbours_per_particle"] = pairs * per;
+  // Lists that span more than 65,535 indices and keep 4 bytes per entry (theory.md section 7).
+  state.counters["wide_list_fraction"] = wide * per;
   state.counters["steps_per_neighbour_build"] = builds > 0 ? double(steps) / builds : 0.0;
+  // What the process really grew by, per particle (peak RSS over the run, scene build included,
+  // minus the RSS before it); -1 when the peak could not be reset. Transients that memory_bytes()
+  // does not hold (the reordering's gather buffer, the output writers) show up here.
+  state.counters["peak_rss_growth_per_particle"] = rss_growth >= 0.0 ? rss_growth * per : -1.0;
+  // The breakdown behind bytes_per_particle (docs/bench.md, "Memory per particle"), on stderr.
+  std::fprintf(stderr, "memory per particle (%.0f particles):\n", particles);
+  for (const auto& item : breakdown)
+    if (item.bytes > 0) std::fprintf(stderr, "  %9.1f B  %s\n", double(item.bytes) * per, item.name.c_str());
+  std::fprintf(stderr, "  %9.1f B  total (memory_bytes)\n", bytes * per);
 }
 
 // items_per_second = particle-steps per second of the whole step loop.

@@ -224,6 +224,6 @@ TEST(Symmetry, RegionWrapAndGhosts) {
   EXPECT_EQ(nl.count(), n);
   bool any_ghost = false;
   for (std::size_t i = 0; i < n; ++i)
-    for (const std::uint32_t* j = nl.begin(i); j != nl.end(i); ++j) any_ghost = any_ghost || *j >= n;
+    nl.for_each(i, [&](std::size_t j) { any_ghost = any_ghost || j >= n; });
   EXPECT_TRUE(any_ghost);
 }

@@ -176,7 +176,7 @@ TEST(ToolHeat, FrictionHeatEndsUpInWorkpieceAndTool) {
       if (r >= reach) continue;
       ++pairs;
       bool listed = false;
-      for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) listed = listed || *p == j;
+      nl.for_each(i, [&](std::size_t k) { listed = listed || k == j; });
       missing += listed ? 0 : 1;
     }
   }

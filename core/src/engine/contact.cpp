@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace sphforge {
 
@@ -51,19 +52,21 @@ void PenaltyContact::bin_particles(const double* x, std::size_t n) {
     cell_edge_ = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], spacing_});
     total = 1;
   }
+  // 4-byte indices: particles and cells (at most 8 n + 64) fit, as in the neighbour lists.
+  if (n > std::numeric_limits<std::uint32_t>::max() / 16) throw std::length_error("too many particles");
   cell_of_.resize(n);
   cell_start_.assign(total + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
     std::size_t c[3];
     for (int d = 0; d < 3; ++d)
       c[d] = std::min(grid_dims_[d] - 1, static_cast<std::size_t>((x[3 * i + d] - grid_lo_[d]) / cell_edge_));
-    cell_of_[i] = (c[2] * grid_dims_[1] + c[1]) * grid_dims_[0] + c[0];
+    cell_of_[i] = static_cast<std::uint32_t>((c[2] * grid_dims_[1] + c[1]) * grid_dims_[0] + c[0]);
     ++cell_start_[cell_of_[i] + 1];
   }
   for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
   cell_particles_.resize(n);
   cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) cell_particles_[cell_fill_[cell_of_[i]]++] = i;
+  for (std::size_t i = 0; i < n; ++i) cell_particles_[cell_fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
   cell_near_.resize(total);
 }
 
@@ -73,8 +76,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
   const std::size_t n = a.n;
   const double* x = a.x;
   const double* v = a.v;
-  distance_.resize(n);
-  normal_.resize(3 * n);
+  slot_of_.resize(n);
   if (stats_.size() != tools.size()) stats_.assign(tools.size(), ToolContactStats{});
   std::size_t total = 0, stuck = 0;
   tool_heat_.clear();
@@ -118,6 +120,8 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     }
     // The particles of the near cells ask the tool for their distance in one batch query
     // (docs/theory.md eqs. 40-46: one virtual call per chunk of points, not per particle).
+    // Cell order (not index order) on purpose: a mesh tool's query starts from the previous point's
+    // nearest triangle, so the order of the batch may decide between equidistant features.
     near_particles_.clear();
     for (std::size_t s = 0; s < n; ++s)
       if (cell_near_[cell_of_[cell_particles_[s]]]) near_particles_.push_back(cell_particles_[s]);
@@ -129,24 +133,22 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     for (std::size_t k = 0; k < m; ++k)
       for (int c = 0; c < 3; ++c) near_x_[3 * k + c] = x[3 * near_particles_[k] + c];
     tool.signed_distance(m, near_x_.data(), near_distance_.data(), near_normal_.data(), reach);
-    std::fill(distance_.begin(), distance_.end(), std::numeric_limits<double>::infinity());
+    // Each particle's slot in the query (a particle outside the near cells is farther than reach).
+    std::fill(slot_of_.begin(), slot_of_.end(), kFar);
 #pragma omp parallel for schedule(static)
-    for (std::size_t k = 0; k < m; ++k) {
-      const std::size_t i = near_particles_[k];
-      distance_[i] = near_distance_[k];
-      for (int c = 0; c < 3; ++c) normal_[3 * i + c] = near_normal_[3 * k + c];
-    }
+    for (std::size_t k = 0; k < m; ++k) slot_of_[near_particles_[k]] = static_cast<std::uint32_t>(k);
+    auto touching = [&](std::size_t i) { return slot_of_[i] != kFar && near_distance_[slot_of_[i]] < reach; };
     // A particle that left the contact forgets its tangential spring (eq. 18b).
     if (hist) {
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < n; ++i)
-        if (!(distance_[i] < reach)) hist[3 * i] = hist[3 * i + 1] = hist[3 * i + 2] = 0.0;
+        if (!touching(i)) hist[3 * i] = hist[3 * i + 1] = hist[3 * i + 2] = 0.0;
     }
 
     // Gather the touching particles in index order (deterministic).
     particle_.clear();
     for (std::size_t i = 0; i < n; ++i)
-      if (distance_[i] < reach) particle_.push_back(i);
+      if (touching(i)) particle_.push_back(i);
     const std::size_t nc = particle_.size();
     if (nc == 0) continue;
     batch_mass_.resize(nc);
@@ -166,13 +168,13 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
 
 #pragma omp parallel for schedule(static)
     for (std::size_t c = 0; c < nc; ++c) {
-      const std::size_t i = particle_[c];
+      const std::size_t i = particle_[c], k = slot_of_[i];
       const Eigen::Vector3d xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-      const Eigen::Vector3d nrm(normal_[3 * i], normal_[3 * i + 1], normal_[3 * i + 2]);
+      const Eigen::Vector3d nrm(near_normal_[3 * k], near_normal_[3 * k + 1], near_normal_[3 * k + 2]);
       const Eigen::Vector3d v_wall = tool.surface_velocity(xi);
       const Eigen::Vector3d v_rel = Eigen::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]) - v_wall;
       const double vn = v_rel.dot(nrm);
-      const double gap = contact_radius - distance_[i];
+      const double gap = contact_radius - near_distance_[k];
       // Damped penalty (eq. 11); a wall only pushes, never pulls.
       const double damping = 2.0 * settings_.damping_ratio * std::sqrt(stiffness_ * a.mass[i]);
       const double fn = gap > 0.0 ? std::max(0.0, stiffness_ * gap - damping * vn) : 0.0;

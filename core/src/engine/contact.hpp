@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "sphforge/contact_law.hpp"
@@ -82,12 +83,12 @@ class PenaltyContact {
   const std::vector<ToolHeatRecord>& tool_heat() const { return tool_heat_; }
   /// Memory held by the scratch arrays (bytes).
   std::size_t bytes() const {
-    std::size_t total = (distance_.capacity() + normal_.capacity() + near_x_.capacity() + near_distance_.capacity() +
-                         near_normal_.capacity()) * sizeof(double) +
-                        (particle_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
+    std::size_t total = (near_x_.capacity() + near_distance_.capacity() + near_normal_.capacity()) * sizeof(double) +
+                        (slot_of_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
                          cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
-                            sizeof(std::size_t) +
-                        cell_near_.capacity() + tool_heat_.capacity() * sizeof(ToolHeatRecord);
+                            sizeof(std::uint32_t) +
+                        particle_.capacity() * sizeof(std::size_t) + cell_near_.capacity() +
+                        tool_heat_.capacity() * sizeof(ToolHeatRecord);
     for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vn_, &batch_damping_,
                           &batch_vt_, &batch_acc_, &batch_area_, &batch_yield_, &batch_history_, &batch_ft_,
                           &batch_stick_, &batch_vwall_})
@@ -102,17 +103,20 @@ class PenaltyContact {
   double sticking_fraction_ = 0.0;
   std::vector<ToolContactStats> stats_;
   std::vector<ToolHeatRecord> tool_heat_;
-  // Scratch, kept between steps so that the pass does not allocate once warmed up.
-  std::vector<double> distance_, normal_;
-  std::vector<std::size_t> particle_;
+  // Scratch, kept between steps so that the pass does not allocate once warmed up. Per particle
+  // only 4-byte indices (12 bytes in all); the distances and normals are held for the particles of
+  // the near cells only.
+  static constexpr std::uint32_t kFar = 0xffffffffu;  ///< slot_of_: not in a near cell
+  std::vector<std::uint32_t> slot_of_;  ///< each particle's place in near_particles_, or kFar
+  std::vector<std::size_t> particle_;   ///< the touching particles, ascending (the law's batch)
   // Culling cells (edge 2 dx) over the particles, rebuilt at every pass.
   void bin_particles(const double* x, std::size_t n);
   double cell_edge_ = 0.0, grid_lo_[3] = {0, 0, 0};
   std::size_t grid_dims_[3] = {1, 1, 1};
-  std::vector<std::size_t> cell_of_, cell_start_, cell_particles_, cell_fill_;
+  std::vector<std::uint32_t> cell_of_, cell_start_, cell_particles_, cell_fill_;
   std::vector<unsigned char> cell_near_;
-  // Particles of the near cells and their batch query (positions, distances, normals).
-  std::vector<std::size_t> near_particles_;
+  // Particles of the near cells (in cell order) and their batch query (positions, distances, normals).
+  std::vector<std::uint32_t> near_particles_;
   std::vector<double> near_x_, near_distance_, near_normal_;
   std::vector<double> batch_mass_, batch_normal_, batch_fn_, batch_gap_, batch_vn_, batch_damping_, batch_vt_,
       batch_acc_, batch_area_, batch_yield_, batch_history_, batch_ft_, batch_stick_, batch_vwall_;

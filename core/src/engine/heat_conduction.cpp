@@ -15,8 +15,7 @@ void heat_conduction_impl(const NeighbourList& nl, double h, const double* x, co
   for (std::size_t i = 0; i < n; ++i) {
     const double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
     double sum = 0.0;
-    for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
-      const std::size_t j = *p;
+    nl.for_each(i, [&](std::size_t j) {
       const double dx0 = xi[0] - x[3 * j], dx1 = xi[1] - x[3 * j + 1], dx2 = xi[2] - x[3 * j + 2];
       const double r2 = dx0 * dx0 + dx1 * dx1 + dx2 * dx2;
       // x_ij . grad_i W_ij = F(r) r^2 with F = (dW/dr)/r <= 0
@@ -24,7 +23,7 @@ void heat_conduction_impl(const NeighbourList& nl, double h, const double* x, co
       const double ksum = k[i] + k[j];
       const double kij = ksum > 0.0 ? 2.0 * k[i] * k[j] / ksum : 0.0;  // eq. 21
       sum += volume[j] * kij * (T[j] - T[i]) * (-2.0 * xgrad) / (r2 + eta2);
-    }
+    });
     heat[i] += volume[i] * sum;
   }
 }
@@ -35,12 +34,11 @@ void surface_area_impl(const NeighbourList& nl, double h, const double* x, const
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     double g[3] = {0.0, 0.0, 0.0};
-    for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
-      const std::size_t j = *p;
+    nl.for_each(i, [&](std::size_t j) {
       const double dx[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
       const double f = volume[j] * kernel_gradient_factor(K, std::sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]), h);
       for (int d = 0; d < 3; ++d) g[d] += f * dx[d];
-    }
+    });
     area[i] = 2.0 * volume[i] * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);  // eq. 22
   }
 }

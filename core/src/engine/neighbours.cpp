@@ -5,22 +5,48 @@
 #include <limits>
 #include <stdexcept>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace sphforge {
 
 std::size_t NeighbourList::pairs() const {
   std::size_t total = 0;
-  for (const std::uint32_t used : chunk_used_) total += used;
+  for (const std::uint32_t p : chunk_pairs_) total += p;
   return total;
 }
 
-std::size_t NeighbourList::bytes() const {
-  std::size_t total = (end_.capacity() + chunk_used_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
-                       sorted_.capacity()) *
-                          sizeof(std::uint32_t) +
-                      base_.capacity() * sizeof(void*) + sorted_x_.capacity() * sizeof(float) +
-                      x_at_build_.capacity() * sizeof(double);
-  for (const auto& c : chunks_) total += c.capacity() * sizeof(std::uint32_t);
+std::size_t NeighbourList::wide_rows() const {
+  std::size_t total = 0;
+  for (const std::uint32_t b : base_of_) total += (b & kWide) != 0 ? 1 : 0;
   return total;
+}
+
+std::size_t NeighbourList::list_bytes() const {
+  std::size_t total = 0;
+  for (const auto& c : chunks_) total += c.capacity() * sizeof(std::uint16_t);
+  return total;
+}
+
+std::size_t NeighbourList::index_bytes() const {
+  std::size_t total = (end_.capacity() + base_of_.capacity() + chunk_used_.capacity() + chunk_pairs_.capacity()) *
+                          sizeof(std::uint32_t) +
+                      chunk_data_.capacity() * sizeof(void*) + chunks_.capacity() * sizeof(chunks_[0]) +
+                      candidates_.capacity() * sizeof(candidates_[0]);
+  for (const auto& c : candidates_) total += c.capacity() * sizeof(std::uint32_t);
+  return total;
+}
+
+std::size_t NeighbourList::build_scratch_bytes() const {
+  return (cell_of_.capacity() + cell_start_.capacity() + sorted_.capacity()) * sizeof(std::uint32_t) +
+         sorted_x_.capacity() * sizeof(float);
+}
+
+std::size_t NeighbourList::watch_bytes() const { return x_at_build_.capacity() * sizeof(double); }
+
+std::size_t NeighbourList::bytes() const {
+  return list_bytes() + index_bytes() + build_scratch_bytes() + watch_bytes();
 }
 
 bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius, double skin) const {
@@ -51,13 +77,21 @@ bool NeighbourList::update(const double* x, std::size_t n, double radius, double
 }
 
 void NeighbourList::build(const double* x, std::size_t n, double radius, std::size_t query) {
-  if (n > std::numeric_limits<std::uint32_t>::max()) throw std::length_error("too many particles");
+  // Bit 31 of base_of_ marks a wide list, so indices must fit in 31 bits.
+  if (n >= kWide) throw std::length_error("too many particles");
   const std::size_t nq = std::min(n, query);  // particles that get a list
   end_.resize(nq);
+  base_of_.resize(nq);
   const std::size_t nchunks = (nq + kChunk - 1) / kChunk;
   chunks_.resize(nchunks);
   chunk_used_.assign(nchunks, 0);
-  base_.assign(nchunks, nullptr);
+  chunk_pairs_.assign(nchunks, 0);
+  chunk_data_.assign(nchunks, nullptr);
+#ifdef _OPENMP
+  candidates_.resize(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+#else
+  candidates_.resize(1);
+#endif
   if (n == 0) return;
 
   double lo[3], hi[3];
@@ -132,10 +166,16 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
 
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t c = 0; c < nchunks; ++c) {
-    std::vector<std::uint32_t>& out = chunks_[c];
-    std::size_t used = 0;
+#ifdef _OPENMP
+    std::vector<std::uint32_t>& cand = candidates_[static_cast<std::size_t>(omp_get_thread_num())];
+#else
+    std::vector<std::uint32_t>& cand = candidates_[0];
+#endif
+    std::vector<std::uint16_t>& out = chunks_[c];
+    std::size_t used = 0, listed = 0;
     const std::size_t first = c * kChunk, last = std::min(nq, first + kChunk);
     for (std::size_t i = first; i < last; ++i) {
+      std::size_t found = 0;  // i's neighbours, first as full indices in cand
       const std::uint32_t cell = cell_of_[i];
       const std::int64_t cx = cell % dims[0], cy = (cell / dims[0]) % dims[1], cz = cell / (dims[0] * dims[1]);
       const float xi = static_cast<float>(x[3 * i] - lo[0]), yi = static_cast<float>(x[3 * i + 1] - lo[1]),
@@ -146,25 +186,59 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
           // Cells x0..x1 of this row are one contiguous run of sorted_.
           const std::size_t row = static_cast<std::size_t>((z * dims[1] + y) * dims[0]);
           const std::uint32_t s0 = cell_start_[row + x0], s1 = cell_start_[row + x1 + 1];
-          if (used + (s1 - s0) > out.size()) {
-            // Grow by 1/8 at a time (reserve first: resize() alone would double the capacity).
-            const std::size_t want = std::max<std::size_t>(used + (s1 - s0), out.size() + out.size() / 8 + 4096);
-            out.reserve(want);
-            out.resize(want);
-          }
-          std::uint32_t* dst = out.data();
+          if (found + (s1 - s0) > cand.size()) cand.resize(2 * (found + (s1 - s0)));
+          std::uint32_t* dst = cand.data();
           const float* p = sorted_x_.data();
           for (std::uint32_t s = s0; s < s1; ++s) {
             const float dx = xi - p[3 * s], dy = yi - p[3 * s + 1], dz = zi - p[3 * s + 2];
             const std::uint32_t j = sorted_[s];
-            dst[used] = j;  // branch-free: kept only when close enough and not i itself
-            used += (dx * dx + dy * dy + dz * dz < r2) & (j != i);
+            dst[found] = j;  // branch-free: kept only when close enough and not i itself
+            found += (dx * dx + dy * dy + dz * dz < r2) & (j != i);
           }
         }
+      // Encode (section 7): offsets from the smallest index when the list spans at most 65,535
+      // indices, else both halves of each index. The order of the neighbours is kept.
+      std::uint32_t jmin = found > 0 ? cand[0] : 0u, jmax = jmin;
+      for (std::size_t k = 1; k < found; ++k) {
+        jmin = std::min(jmin, cand[k]);
+        jmax = std::max(jmax, cand[k]);
+      }
+      const bool wide = jmax - jmin > 0xffffu;
+      const std::size_t units = wide ? 2 * found : found;
+      if (used + units > out.size()) {
+        // Grow by 1/8 at a time (reserve first: resize() alone would double the capacity).
+        const std::size_t want = std::max<std::size_t>(used + units, out.size() + out.size() / 8 + 8192);
+        out.reserve(want);
+        out.resize(want);
+      }
+      std::uint16_t* dst = out.data() + used;
+      if (wide) {
+        for (std::size_t k = 0; k < found; ++k) {
+          dst[2 * k] = static_cast<std::uint16_t>(cand[k] & 0xffffu);
+          dst[2 * k + 1] = static_cast<std::uint16_t>(cand[k] >> 16);
+        }
+      } else {
+        for (std::size_t k = 0; k < found; ++k) dst[k] = static_cast<std::uint16_t>(cand[k] - jmin);
+      }
+      used += units;
+      listed += found;
+      base_of_[i] = wide ? kWide : jmin;
       end_[i] = static_cast<std::uint32_t>(used);
     }
+    // The growth steps above leave up to 1/8 of a chunk unused (10 % of the list memory after the
+    // first build). Trim a chunk that holds more than ~3 % spare to a 1/64 margin: one copy of that
+    // chunk, only after a build that grew it, and the next builds fill it in place.
+    const std::size_t keep = used + used / 64 + 256;
+    if (out.capacity() > keep + keep / 32) {
+      std::vector<std::uint16_t> trimmed;
+      trimmed.reserve(keep);
+      trimmed.assign(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(used));
+      trimmed.resize(keep);
+      out.swap(trimmed);
+    }
     chunk_used_[c] = static_cast<std::uint32_t>(used);
-    base_[c] = out.data();
+    chunk_pairs_[c] = static_cast<std::uint32_t>(listed);
+    chunk_data_[c] = out.data();
   }
 }
 

@@ -1,11 +1,20 @@
 // Neighbour search: uniform cell list (cell edge = search radius), full neighbour lists.
-// Particle i's neighbours are begin(i) .. end(i), in ascending cell order (cells by z, y, x;
-// particles within a cell by index), so every pair loop sums in a fixed order and results do not
-// depend on the number of threads.
+// Particle i's neighbours are row(i)[0] .. row(i)[size(i) - 1], in ascending cell order (cells by
+// z, y, x; particles within a cell by index), so every pair loop sums in a fixed order and results
+// do not depend on the number of threads.
 //
-// Storage: the lists of particles [c * kChunk, (c + 1) * kChunk) lie back to back in chunk c's
-// own array, so that the chunks are filled in parallel in a single sweep (no counting pass and no
-// copy), and end_[i] is the end of particle i's list within its chunk.
+// Storage (docs/theory.md section 7): 16-bit entries. After the Morton reordering
+// (engine/reorder.hpp) a particle's neighbours lie within a few thousand indices of each other, so
+// a list is stored as its smallest index, the base, and one 16-bit offset per neighbour
+// (j = base + offset): 2 bytes per pair instead of 4. A list that spans more than 65,535 indices
+// (under 1 % of the particles in the benchmark block) is "wide": each neighbour is then two 16-bit
+// halves (low, high) of its index. The pair loops decode() a particle's list into 32-bit indices
+// on the stack first and read the same neighbours in the same order either way.
+// The lists of particles [c * kChunk, (c + 1) * kChunk) lie back to back in chunk c's own array,
+// so that the chunks are filled in parallel in a single sweep (no counting pass), and end_[i] is
+// the end of particle i's list within its chunk (in 16-bit units). A chunk that grew during a
+// build is trimmed to a 1/64 margin afterwards (one copy), so that the lists hold little unused
+// memory.
 #pragma once
 
 #include <cstddef>
@@ -37,19 +46,72 @@ class NeighbourList {
   void build(const double* x, std::size_t count, double radius, std::size_t query = SIZE_MAX);
 
   std::size_t count() const { return end_.size(); }
-  const std::uint32_t* begin(std::size_t i) const {
-    return base_[i / kChunk] + ((i % kChunk) != 0 ? end_[i - 1] : 0u);
+
+  /// Particle i's list: `count` neighbours, the k-th is base + entries[k] (narrow) or
+  /// entries[2k] | entries[2k + 1] << 16 (wide).
+  struct Row {
+    const std::uint16_t* entries;
+    std::uint32_t base;
+    std::uint32_t count;
+    bool wide;
+    std::uint32_t operator[](std::size_t k) const {
+      return wide ? static_cast<std::uint32_t>(entries[2 * k]) | static_cast<std::uint32_t>(entries[2 * k + 1]) << 16
+                  : base + entries[k];
+    }
+  };
+  Row row(std::size_t i) const {
+    const std::uint16_t* first = chunk_data_[i / kChunk] + ((i % kChunk) != 0 ? end_[i - 1] : 0u);
+    const std::uint32_t units = static_cast<std::uint32_t>(chunk_data_[i / kChunk] + end_[i] - first);
+    const bool wide = (base_of_[i] & kWide) != 0;
+    return {first, wide ? 0u : base_of_[i], wide ? units / 2 : units, wide};
   }
-  const std::uint32_t* end(std::size_t i) const { return base_[i / kChunk] + end_[i]; }
+  /// Writes i's neighbour indices, in list order, to out (room for size(i)); returns their number.
+  /// The pair loops decode a list into a small buffer and then run over plain 32-bit indices: the
+  /// same loop, vectorised the same way, as over a 32-bit list, so the sums are the same to the bit.
+  std::size_t decode(std::size_t i, std::uint32_t* out) const {
+    const Row r = row(i);
+    if (r.wide)
+      for (std::uint32_t k = 0; k < r.count; ++k) out[k] = r[k];
+    else
+      for (std::uint32_t k = 0; k < r.count; ++k) out[k] = r.base + r.entries[k];
+    return r.count;
+  }
+  /// Number of neighbours of i.
+  std::size_t size(std::size_t i) const { return row(i).count; }
+  /// Calls f(j) for every neighbour j of i, in list order (for the loops that are not hot).
+  template <class F>
+  void for_each(std::size_t i, F&& f) const {
+    const Row r = row(i);
+    if (r.wide)
+      for (std::uint32_t k = 0; k < r.count; ++k) f(static_cast<std::size_t>(r[k]));
+    else
+      for (std::uint32_t k = 0; k < r.count; ++k) f(static_cast<std::size_t>(r.base) + r.entries[k]);
+  }
+  /// Neighbour pairs (list entries, i.e. sum of size(i)).
   std::size_t pairs() const;
-  /// Memory held (lists, cell-list scratch, positions at the last build), in bytes.
+  /// Particles whose list is wide (stored with 4 bytes per neighbour).
+  std::size_t wide_rows() const;
+  /// Memory held (lists, cell-list scratch, positions at the last build), in bytes: the sum of
+  /// the four parts below.
   std::size_t bytes() const;
+  /// The list entries (capacity of the chunks; about pairs() * 2 of it in use).
+  std::size_t list_bytes() const;
+  /// The per-particle list ends and bases, the per-chunk bookkeeping and the encoding scratch.
+  std::size_t index_bytes() const;
+  /// Scratch of the cell-list build (cell of each particle, cell starts, sorted indices and positions).
+  std::size_t build_scratch_bytes() const;
+  /// The positions at the last build that needs_rebuild() compares with.
+  std::size_t watch_bytes() const;
 
  private:
-  std::vector<std::uint32_t> end_;                 // end of i's list within its chunk
-  std::vector<std::vector<std::uint32_t>> chunks_;  // the lists, kChunk particles per chunk
-  std::vector<std::uint32_t> chunk_used_;           // entries in use in each chunk
-  std::vector<const std::uint32_t*> base_;          // chunks_[c].data()
+  static constexpr std::uint32_t kWide = 0x80000000u;  ///< base_of_: the list is wide
+  std::vector<std::uint32_t> end_;       // end of i's list within its chunk, in 16-bit units
+  std::vector<std::uint32_t> base_of_;   // smallest neighbour index of i, or kWide
+  std::vector<std::vector<std::uint16_t>> chunks_;  // the lists, kChunk particles per chunk
+  std::vector<std::uint32_t> chunk_used_;           // 16-bit units in use in each chunk
+  std::vector<std::uint32_t> chunk_pairs_;          // neighbours listed in each chunk
+  std::vector<const std::uint16_t*> chunk_data_;    // chunks_[c].data()
+  std::vector<std::vector<std::uint32_t>> candidates_;  // per thread: one particle's list before encoding
   // Cell list scratch.
   std::vector<std::uint32_t> cell_of_;     // cell index of each particle
   std::vector<std::uint32_t> cell_start_;  // first slot of each cell in sorted_

@@ -825,15 +825,15 @@ void Simulation::mechanics_rates() {
   const double* ve = sym ? extend(ext_v_, v, 3) : v;
   const double* me = sym ? extend(ext_m_, m, 1) : m;
   // Per-step scratch: volume (1), correction C (6), A = sigma C (9), and for the artificial stress
-  // sigma/rho^2 (6) and R (6) per particle (nt: ghosts included).
+  // R (6) per particle (nt: ghosts included). R is computed in place from sigma/rho^2 (eq. 9 reads
+  // a particle's six values before it writes them), so that input needs no array of its own.
   const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
   const bool corrected = settings_.gradient_correction;
-  scratch_.resize((1 + (corrected ? 6 : 0) + 9 + (with_artificial_stress ? 12 : 0)) * nt);
+  scratch_.resize((1 + (corrected ? 6 : 0) + 9 + (with_artificial_stress ? 6 : 0)) * nt);
   double* volume = scratch_.data();
   double* correction = corrected ? volume + nt : nullptr;
   double* stress_c = volume + (corrected ? 7 : 1) * nt;
-  double* sigma_over_rho2 = with_artificial_stress ? stress_c + 9 * nt : nullptr;
-  double* artificial = with_artificial_stress ? sigma_over_rho2 + 6 * nt : nullptr;
+  double* artificial = with_artificial_stress ? stress_c + 9 * nt : nullptr;
   // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
   particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
   // Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge the
@@ -893,8 +893,8 @@ void Simulation::mechanics_rates() {
   }
   corrected_stress(p, S, correction, stress_c, n);
   if (artificial) {
-    stress_over_density_squared(p, S, rho, sigma_over_rho2, n);
-    artificial_stress(sigma_over_rho2, settings_.artificial_stress.epsilon, artificial, n);
+    stress_over_density_squared(p, S, rho, artificial, n);
+    artificial_stress(artificial, settings_.artificial_stress.epsilon, artificial, n);  // in place
   }
   const double* rho_e = rho;
   if (sym) {

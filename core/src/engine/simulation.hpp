@@ -82,15 +82,18 @@ class Simulation {
   /// Ghost particles (images across the symmetry cuts) of the last neighbour-list build.
   std::size_t ghost_count() const { return symmetry_.ghost_count(); }
   long long neighbour_builds() const { return neighbours_.builds(); }
-  /// Memory held for the particles: fields, neighbour lists, contact, pass scratch and the symmetry
-  /// ghosts' extended arrays (bytes).
-  std::size_t memory_bytes() const {
-    return fields_.bytes() + neighbours_.bytes() + contact_.bytes() +
-           (scratch_.capacity() + yield_scratch_.capacity() + ext_x_.capacity() + ext_v_.capacity() +
-            ext_m_.capacity() + ext_rho_.capacity() + ext_T_.capacity() + ext_thermal_x_.capacity() +
-            bond_stress_.capacity() + ext_failed_.capacity()) *
-               sizeof(double);
-  }
+  /// One item of memory_breakdown(): what holds the memory and how many bytes.
+  struct MemoryItem {
+    std::string name;
+    std::size_t bytes = 0;
+  };
+  /// Memory held for the particles, item by item (capacities, not sizes): every registered field,
+  /// the neighbour lists and their build scratch, the contact scratch, the per-step scratch of the
+  /// passes, the symmetry ghosts' extended arrays and the thermal arrays. docs/bench.md, "Memory per
+  /// particle", lists them for the benchmark case.
+  std::vector<MemoryItem> memory_breakdown() const;
+  /// The sum of memory_breakdown() (bytes).
+  std::size_t memory_bytes() const;
   /// The particles are reordered by cell (Morton order within each body, engine/reorder.hpp)
   /// just before every this-many-th neighbour-list build, starting with the first.
   static constexpr long long kReorderEveryBuilds = 8;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
@@ -72,6 +73,27 @@ bool cpu_has_avx2_fma() { return false; }
 #endif
 #define SPHFORGE_ALWAYS_INLINE __attribute__((always_inline)) inline
 
+// One particle's neighbour list decoded to 32-bit indices (engine/neighbours.hpp, section 7): on
+// the stack for the usual lengths, in a per-thread buffer for a longer list (grown once). The pair
+// loops below then run over plain indices.
+struct DecodedList {
+  static constexpr std::size_t kInline = 1024;
+  std::uint32_t local[kInline];
+  const std::uint32_t* indices;
+  std::size_t count;
+  DecodedList(const NeighbourList& nl, std::size_t i) {
+    const std::size_t n = nl.size(i);
+    std::uint32_t* out = local;
+    if (n > kInline) {
+      static thread_local std::vector<std::uint32_t> spill;
+      if (spill.size() < n) spill.resize(n);
+      out = spill.data();
+    }
+    count = nl.decode(i, out);
+    indices = out;
+  }
+};
+
 struct GradientArgs {
   const NeighbourList* nl;
   const double *x, *v, *volume;
@@ -94,8 +116,9 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
   double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, m5 = 0;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
   const double vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
-  const std::uint32_t* const nb = g.nl->begin(i);
-  const std::ptrdiff_t count = g.nl->end(i) - nb;
+  DecodedList list(*g.nl, i);
+  const std::uint32_t* const nb = list.indices;
+  const std::ptrdiff_t count = list.count;
   double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
   if constexpr (Failure) {
     for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
@@ -226,8 +249,9 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   for (int c = 0; c < 9; ++c) ai[c] = stress_c[9 * i + c];
   for (int c = 0; c < 6; ++c) Ri[c] = kStress ? R[6 * i + c] : 0.0;
   double a0 = 0, a1 = 0, a2 = 0;
-  const std::uint32_t* const nb = g.nl->begin(i);
-  const std::ptrdiff_t count = g.nl->end(i) - nb;
+  DecodedList list(*g.nl, i);
+  const std::uint32_t* const nb = list.indices;
+  const std::ptrdiff_t count = list.count;
   double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
   if constexpr (Failure) {
     for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];

@@ -58,6 +58,8 @@ struct ArtificialStress {
 
 /// Gray-Monaghan-Swift artificial stress R_i (6 per particle, theory eq. 9): in the principal
 /// frame of sigma_i, R'_k = -epsilon sigma'_k / rho_i^2 for tensile sigma'_k > 0, else 0.
+/// R may be sigma_over_rho2 itself (in place): a particle's six inputs are read before its outputs
+/// are written.
 void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R, std::size_t n);
 
 /// Momentum equation in the variationally consistent corrected form (theory eqs. 7-9):

@@ -25,20 +25,19 @@ void deposit_tool_heat(const std::vector<ToolHeatRecord>& records, const Neighbo
     };
     // Kernel weights of the tool's particles within the support of i (eq. 91).
     double wsum = 0.0;
-    for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
-      const std::size_t j = *p;
-      if (bodies[static_cast<std::size_t>(body[real(j)])].attached_tool != tool) continue;
+    nl.for_each(i, [&](std::size_t j) {
+      if (bodies[static_cast<std::size_t>(body[real(j)])].attached_tool != tool) return;
       const double r2 = r2_to(j);
       if (r2 < support2) wsum += kernel_value(kernel, std::sqrt(r2), h);
-    }
+    });
     if (wsum > 0.0) {
       const double scale = rec.heat_W / wsum;
-      for (const std::uint32_t* p = nl.begin(i); p != nl.end(i); ++p) {
-        const std::size_t j = *p, r = real(j);
-        if (bodies[static_cast<std::size_t>(body[r])].attached_tool != tool) continue;
+      nl.for_each(i, [&](std::size_t j) {
+        const std::size_t r = real(j);
+        if (bodies[static_cast<std::size_t>(body[r])].attached_tool != tool) return;
         const double r2 = r2_to(j);
         if (r2 < support2) heat_source[r] += scale * kernel_value(kernel, std::sqrt(r2), h) * mass_scaling / mass[r];
-      }
+      });
       continue;
     }
     // No tool particle within the support (a tool body thinner than the surface it carries, or
