@@ -14,7 +14,8 @@
 //    outer fibre as if the fibre were nearer the axis; the second order is exact there.
 // 3. Duality with the momentum term (eq. 136): for random stresses and velocities, the internal
 //    forces' power sum_i m_i a_i . v_i equals minus the stress power sum_i V_i sigma_i : L_i (eq. 137),
-//    and sum_i m_i a_i = 0, both to round-off (1e-10 relative: the same round-off argument as 1).
+//    sum_i m_i a_i = 0 and sum_i x_i x m_i a_i = 0, all to round-off (1e-10 relative: the same
+//    round-off argument as 1).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -226,6 +227,7 @@ TEST(SecondOrderGradient, MomentumTermIsDualToTheGradient) {
   second_order_momentum_term(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), mass.data(), c.volume.data(),
                              stress_b.data(), a.data(), c.n);
   double kinetic_rate = 0.0, stress_power = 0.0, scale = 0.0, force[3] = {0, 0, 0}, force_scale = 0.0;
+  double torque[3] = {0, 0, 0}, torque_scale = 0.0;
   for (std::size_t i = 0; i < c.n; ++i) {
     const double* s = &S[6 * i];
     const double sigma[9] = {s[0] - p[i], s[3], s[5], s[3], s[1] - p[i], s[4], s[5], s[4], s[2] - p[i]};
@@ -238,11 +240,21 @@ TEST(SecondOrderGradient, MomentumTermIsDualToTheGradient) {
       force[d] += mass[i] * a[3 * i + d];
       force_scale += std::abs(mass[i] * a[3 * i + d]);
     }
+    const double* xi = &c.x[3 * i];
+    const double f[3] = {mass[i] * a[3 * i], mass[i] * a[3 * i + 1], mass[i] * a[3 * i + 2]};
+    torque[0] += xi[1] * f[2] - xi[2] * f[1];
+    torque[1] += xi[2] * f[0] - xi[0] * f[2];
+    torque[2] += xi[0] * f[1] - xi[1] * f[0];
+    torque_scale += std::sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]) * (std::abs(f[0]) + std::abs(f[1]) + std::abs(f[2]));
   }
   std::printf("duality: sum m a.v = %.6e W, -sum V sigma:L = %.6e W (scale %.3e); |sum m a| = %.3e N of %.3e\n",
               kinetic_rate, -stress_power, scale, std::hypot(force[0], force[1], force[2]), force_scale);
   EXPECT_NEAR(kinetic_rate, -stress_power, 1e-10 * scale);
   for (int d = 0; d < 3; ++d) EXPECT_NEAR(force[d], 0.0, 1e-10 * force_scale);
+  // Angular momentum (eq. 137): every particle of this block uses the second order, which is exact
+  // for linear fields, so the torques cancel to round-off.
+  std::printf("torque: |sum x x m a| = %.3e N m of %.3e\n", std::hypot(torque[0], torque[1], torque[2]), torque_scale);
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(torque[d], 0.0, 1e-10 * torque_scale);
 }
 
 }  // namespace
