@@ -61,14 +61,15 @@ TEST(OscillatingPlate, PeriodConvergesTowardsEulerBernoulli) {
 // The second-order gradient correction (docs/theory.md section 18) at H/4: the remedy for the
 // surface strain error that the first-order correction makes at the outer fibres (0.80 of the exact
 // bending strain on this lattice, tests/verification/test_second_order_gradient.cpp). Measured
-// (docs/verification.md section 3): +10.5 % at H/4 against +34.3 % with the first order; the rest
+// (docs/verification.md section 3): +10.5 % at H/4 against +34.0 % with the first order; the rest
 // is the clamp's effective root about one spacing behind x = 0, the midpoint quadrature of the
 // bending stiffness across 4 particles (+3.3 %), the artificial stress (+1.9 %) and Timoshenko
 // (+0.6 %). Tolerance: the error must be at most half that of the first order at the same
 // spacing. Why half: of the first order's +34 %, the surface strain error alone accounts for about
 // +22 % (a stiffness of 0.67, the test above), so a remedy that works removes well over half of the
 // error; a gradient that still evaluated the outer fibres' strain inside the beam would fail.
-// About 2 min on 2 threads (the second order costs about 2.5 times the first per step).
+// About 75 s on 2 idle cores (the second order costs 2.7 times the first per step; 198 s measured on
+// a loaded shared machine).
 TEST(OscillatingPlate, SecondOrderGradientRemovesMostOfTheErrorAtH4) {
   const double first = period_at("5 mm"), second = period_at("5 mm", "second");
   const double e_first = (first - kPeriod) / kPeriod, e_second = (second - kPeriod) / kPeriod;
