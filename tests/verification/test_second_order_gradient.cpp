@@ -11,7 +11,8 @@
 //    so the test separates the two by six orders of magnitude.
 // 2. The plate's lattice (the hypothesis of docs/verification.md section 3): pure bending across a
 //    beam 4 particles thick, dv_x/dx = -kappa y. The first-order correction evaluates it at the
-//    outer fibre as if the fibre were nearer the axis; the second order is exact there.
+//    outer fibre as if the fibre were nearer the axis; the second order is exact there. Next to the
+//    plate's clamp (v = 0 behind x = 0) the first two free columns still fit across the clamp face.
 // 3. Duality with the momentum term (eq. 136): for random stresses and velocities, the internal
 //    forces' power sum_i m_i a_i . v_i equals minus the stress power sum_i V_i sigma_i : L_i (eq. 137),
 //    sum_i m_i a_i = 0 and sum_i x_i x m_i a_i = 0, all to round-off (1e-10 relative: the same
