@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/neighbours.hpp"
+#include "engine/second_order_gradient.hpp"
 #include "engine/sph_operators.hpp"
 #include "sphforge/fields.hpp"
 #include "sphforge/parameters.hpp"
@@ -120,6 +121,51 @@ void BM_MomentumWithArtificialStressWithFailure(benchmark::State& state) {
     momentum_rate(b.nl, KernelKind::CubicSpline, b.h, ArtificialViscosity{}, 50.0, b.x.data(), b.v.data(),
                   b.m.data(), b.rho.data(), b.volume.data(), b.stress_c.data(), as, b.R.data(), b.a.data(), b.n,
                   f.rule());
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
+}
+
+// The second-order gradient correction (docs/theory.md section 18, numerics.gradient_correction_order
+// = "second"): its three pair passes, to compare with the first-order gradient and momentum above.
+// A step with it runs the first-order momentum pass too (eq. 136 adds to it), and these three instead
+// of BM_VelocityGradientCorrected.
+struct SecondOrderState {
+  std::vector<double> B, C, stress_b;
+  explicit SecondOrderState(Block& b) : B(27 * b.n), C(6 * b.n), stress_b(27 * b.n) {
+    second_order_correction(b.nl, KernelKind::CubicSpline, b.h, b.x.data(), b.volume.data(), B.data(), C.data(),
+                            nullptr, b.n);
+    second_order_stress(b.p.data(), b.S.data(), B.data(), stress_b.data(), b.n);
+  }
+};
+
+SecondOrderState& second_order_state(Block& b) {
+  static SecondOrderState s(b);
+  return s;
+}
+
+void BM_SecondOrderCorrection(benchmark::State& state) {
+  Block& b = block(static_cast<int>(state.range(0)));
+  SecondOrderState& s = second_order_state(b);
+  for (auto _ : state)
+    second_order_correction(b.nl, KernelKind::CubicSpline, b.h, b.x.data(), b.volume.data(), s.B.data(), s.C.data(),
+                            nullptr, b.n);
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
+}
+
+void BM_SecondOrderVelocityGradient(benchmark::State& state) {
+  Block& b = block(static_cast<int>(state.range(0)));
+  SecondOrderState& s = second_order_state(b);
+  for (auto _ : state)
+    second_order_velocity_gradient(b.nl, KernelKind::CubicSpline, b.h, b.x.data(), b.v.data(), b.volume.data(),
+                                   s.B.data(), s.C.data(), b.L.data(), b.n);
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
+}
+
+void BM_SecondOrderMomentumTerm(benchmark::State& state) {
+  Block& b = block(static_cast<int>(state.range(0)));
+  SecondOrderState& s = second_order_state(b);
+  for (auto _ : state)
+    second_order_momentum_term(b.nl, KernelKind::CubicSpline, b.h, b.x.data(), b.m.data(), b.volume.data(),
+                               s.stress_b.data(), b.a.data(), b.n);
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
 }
 
@@ -240,6 +286,9 @@ BENCHMARK(BM_VelocityGradientCorrected)->Arg(46)->Unit(benchmark::kMillisecond)-
 BENCHMARK(BM_MomentumWithArtificialStress)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_VelocityGradientCorrectedWithFailure)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MomentumWithArtificialStressWithFailure)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SecondOrderCorrection)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SecondOrderVelocityGradient)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SecondOrderMomentumTerm)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_JaumannRotation)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

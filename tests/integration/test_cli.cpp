@@ -686,6 +686,29 @@ TEST_F(Cli, InstabilityExitsWithThreeAndLocatesIt) {
 
 // --- check and plugins --------------------------------------------------------------------------
 
+TEST_F(Cli, CheckAcceptsTheSecondOrderGradientAndRejectsBadCombinations) {
+  // numerics.gradient_correction_order (docs/theory.md section 18): "first" or "second"; "second"
+  // needs the first-order correction on and is not implemented with symmetry or bond failure.
+  const std::string plate = std::string(SPHFORGE_SOURCE_DIR) + "/cases/verification/oscillating_plate.json";
+  const Result second = run({"check", plate, "--set", "numerics.gradient_correction_order=second"});
+  ASSERT_EQ(second.code, 0) << describe(second);
+  EXPECT_TRUE(contains(second.out, "velocity_gradient_second_order")) << second.out;
+  const Result third = run({"check", plate, "--set", "numerics.gradient_correction_order=third"});
+  EXPECT_EQ(third.code, 2) << describe(third);
+  EXPECT_TRUE(contains(third.err, "/numerics/gradient_correction_order")) << third.err;
+  const Result off = run({"check", plate, "--set", "numerics.gradient_correction_order=second", "--set",
+                          "numerics.gradient_correction=false"});
+  EXPECT_EQ(off.code, 2) << describe(off);
+  EXPECT_TRUE(contains(off.err, "/numerics/gradient_correction_order")) << off.err;
+  EXPECT_TRUE(contains(off.err, "needs numerics.gradient_correction = true")) << off.err;
+  const std::string cylinder =
+      std::string(SPHFORGE_SOURCE_DIR) + "/cases/verification/spinning_compressed_cylinder.json";
+  const Result sym = run({"check", cylinder, "--set", "numerics.symmetry.sector.angle=90 deg", "--set",
+                          "numerics.gradient_correction_order=second"});
+  EXPECT_EQ(sym.code, 2) << describe(sym);
+  EXPECT_TRUE(contains(sym.err, "/numerics/gradient_correction_order")) << sym.err;
+}
+
 TEST_F(Cli, CheckClipsTheSceneToTheSymmetryRegionAndRejectsBadSymmetry) {
   // numerics.symmetry (docs/theory.md section 11): a 90 deg sector keeps a quarter of the particles
   // of the verification cylinder (3792); unsupported settings are input errors with a pointer.

@@ -163,4 +163,13 @@ TEST(RigidRotation, FreeSpinningDiscMomentum) {
   EXPECT_LT(with_as.dh, 1e-12) << with_as.line;
 }
 
+// The same with the second-order gradient correction (docs/theory.md section 18): its momentum term
+// (eq. 136) is the dual of a gradient exact for linear fields, so it exerts no net torque either
+// (eq. 137). Same tolerance and reason as above.
+TEST(RigidRotation, FreeSpinningDiscMomentumSecondOrderGradient) {
+  const SpinResult second = spin("spinning_disc_second_order", {"numerics.gradient_correction_order=second"});
+  EXPECT_LT(second.dp, 1e-12) << second.line;
+  EXPECT_LT(second.dh, 1e-12) << second.line;
+}
+
 }  // namespace

@@ -122,4 +122,25 @@ class NeighbourList {
   long long builds_ = 0;
 };
 
+/// One particle's neighbour list decoded to 32-bit indices (theory section 7): on the stack for the
+/// usual lengths, in a per-thread buffer for a longer list (grown once). The pair loops
+/// (engine/sph_operators.cpp, engine/second_order_gradient.cpp) then run over plain indices.
+struct DecodedList {
+  static constexpr std::size_t kInline = 1024;
+  std::uint32_t local[kInline];
+  const std::uint32_t* indices;
+  std::size_t count;
+  DecodedList(const NeighbourList& nl, std::size_t i) {
+    const std::size_t n = nl.size(i);
+    std::uint32_t* out = local;
+    if (n > kInline) {
+      static thread_local std::vector<std::uint32_t> spill;
+      if (spill.size() < n) spill.resize(n);
+      out = spill.data();
+    }
+    count = nl.decode(i, out);
+    indices = out;
+  }
+};
+
 }  // namespace sphforge

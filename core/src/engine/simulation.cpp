@@ -16,6 +16,7 @@
 #include "engine/energy.hpp"
 #include "engine/heat_conduction.hpp"
 #include "engine/reorder.hpp"
+#include "engine/second_order_gradient.hpp"
 #include "engine/tool_heat.hpp"
 #include "engine/xsph.hpp"
 #include "io/output_writers.hpp"
@@ -63,6 +64,10 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::object("artificial_viscosity", "Monaghan artificial viscosity coefficients"),
       ParamSpec::boolean("gradient_correction", true,
                          "first-order (Randles-Libersky) correction of the velocity gradient (theory eq. 3b)"),
+      ParamSpec::string("gradient_correction_order", std::string("first"),
+                        "first: linear-consistent correction (eq. 3b); second: quadratic-consistent where the "
+                        "neighbourhood allows, with its energy-consistent momentum term (theory section 18)",
+                        {"first", "second"}),
       ParamSpec::object("artificial_stress", "Gray-Monaghan-Swift artificial stress against tensile instability"),
       ParamSpec::number("neighbour_skin", "1", 0.2,
                         "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
@@ -326,6 +331,13 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.neighbour_skin = numerics.number("neighbour_skin");
   settings_.domain_margin_m = numerics.number("domain_margin");
   settings_.gradient_correction = numerics.boolean("gradient_correction");
+  settings_.second_order_gradient = numerics.string("gradient_correction_order") == "second";
+  if (settings_.second_order_gradient && !settings_.gradient_correction)
+    numerics.fail("gradient_correction_order", "\"second\" needs numerics.gradient_correction = true");
+  if (settings_.second_order_gradient && numerics.has("symmetry") && numerics.raw("symmetry").is_object() &&
+      !numerics.raw("symmetry").empty())
+    numerics.fail("gradient_correction_order", "\"second\" is not implemented with numerics.symmetry (ghost "
+                                               "particles would need B transformed as a third-order tensor)");
   const ParamValues av = numerics.sub("artificial_viscosity", viscosity_specs());
   settings_.viscosity = {av.number("alpha"), av.number("beta"), av.number("eta")};
   const ParamValues as = numerics.sub("artificial_stress", artificial_stress_specs());
@@ -526,7 +538,8 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     std::vector<FieldInfo> gradient_writes = {grad_v};
     if (settings_.gradient_correction) gradient_writes.push_back(FieldInfo{field::gradient_condition, 1, "1"});
     passes_.push_back({"neighbour_search", {position}, {}});
-    passes_.push_back({"velocity_gradient", {position, velocity, mass, density}, gradient_writes});
+    passes_.push_back({settings_.second_order_gradient ? "velocity_gradient_second_order" : "velocity_gradient",
+                       {position, velocity, mass, density}, gradient_writes});
     passes_.push_back({"continuity", {grad_v, density}, {density_rate}});
     passes_.push_back({"jaumann_rotation", {grad_v}, {stress}});
     std::vector<std::size_t> used;
@@ -547,6 +560,9 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     for (std::size_t mat : used)
       for (const FieldInfo& f : materials_[mat]->fields()) any_failure = any_failure || f.name == field::failed;
     if (any_failure) passes_.push_back({"bond_failure", {FieldInfo{field::failed, 1, "1"}, pressure, stress}, {}});
+    if (any_failure && settings_.second_order_gradient)
+      throw InputError(file, "/numerics/gradient_correction_order",
+                       "\"second\" is not implemented with bond failure (a material with a failure criterion)");
     if (settings_.artificial_stress.epsilon > 0.0)
       passes_.push_back({"artificial_stress", {pressure, stress, density}, {}});
     passes_.push_back({"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}});
@@ -829,11 +845,15 @@ void Simulation::mechanics_rates() {
   // a particle's six values before it writes them), so that input needs no array of its own.
   const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
   const bool corrected = settings_.gradient_correction;
-  scratch_.resize((1 + (corrected ? 6 : 0) + 9 + (with_artificial_stress ? 6 : 0)) * nt);
+  // The second-order correction (theory section 18) adds B and A2 = sigma B, 27 each per particle.
+  const bool second = settings_.second_order_gradient;
+  scratch_.resize((1 + (corrected ? 6 : 0) + 9 + (with_artificial_stress ? 6 : 0) + (second ? 54 : 0)) * nt);
   double* volume = scratch_.data();
   double* correction = corrected ? volume + nt : nullptr;
   double* stress_c = volume + (corrected ? 7 : 1) * nt;
   double* artificial = with_artificial_stress ? stress_c + 9 * nt : nullptr;
+  double* second_b = second ? stress_c + (9 + (with_artificial_stress ? 6 : 0)) * nt : nullptr;
+  double* stress_b = second ? second_b + 27 * nt : nullptr;
   // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
   particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
   // Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge the
@@ -851,8 +871,15 @@ void Simulation::mechanics_rates() {
     }
     failure = {ext_failed_.data(), bond_stress_.data()};
   }
-  velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, corrected, L,
-                    fields_.f64_if(field::gradient_condition), correction, n, failure);
+  if (second) {
+    // Quadratic-consistent gradient (eqs. 130-134); symmetry and bond failure are refused at setup.
+    second_order_correction(neighbours_, settings_.kernel, h_, xe, volume, second_b, correction,
+                            fields_.f64_if(field::gradient_condition), n);
+    second_order_velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, second_b, correction, L, n);
+  } else {
+    velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, corrected, L,
+                      fields_.f64_if(field::gradient_condition), correction, n, failure);
+  }
   continuity_density_rate(L, rho, drho, n);
   // The density advances here, before the material's equation of state, so that the pressure and
   // the deviatoric stress both belong to the new configuration x^n (eq. 14). Updating it after
@@ -892,6 +919,7 @@ void Simulation::mechanics_rates() {
     if (need_yield_) materials_[b.material]->yield_stress(batch, yield_scratch_.data() + b.first);
   }
   corrected_stress(p, S, correction, stress_c, n);
+  if (second) second_order_stress(p, S, second_b, stress_b, n);
   if (artificial) {
     stress_over_density_squared(p, S, rho, artificial, n);
     artificial_stress(artificial, settings_.artificial_stress.epsilon, artificial, n);  // in place
@@ -908,6 +936,8 @@ void Simulation::mechanics_rates() {
   // corrected gradient used, as the energy consistency of eq. 7 requires.
   momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, xe, ve, me, rho_e, volume, stress_c,
                 settings_.artificial_stress, artificial, a, n, failure);
+  // Its quadratic part, the dual of the second-order gradient (eq. 136).
+  if (second) second_order_momentum_term(neighbours_, settings_.kernel, h_, xe, me, volume, stress_b, a, n);
   // Body force (gravity): the internal-work ledger below takes it out again so that it is not
   // booked as internal (eq. 47); added before the contact pass so that a sticking force can cancel it (eq. 18a).
   // g + A cos(omega t) at the step's time t^n, where the leapfrog evaluates every force (eq. 47a).

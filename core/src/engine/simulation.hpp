@@ -27,6 +27,7 @@ struct CoreSettings {
   double neighbour_skin = 0.2;  ///< Verlet skin, fraction of h
   double domain_margin_m = -1.0;  ///< beyond the initial box: instability (-1: the box's size)
   bool gradient_correction = true;
+  bool second_order_gradient = false;  ///< numerics.gradient_correction_order = "second" (section 18)
   ArtificialViscosity viscosity;
   ArtificialStress artificial_stress;
   ContactSettings contact;

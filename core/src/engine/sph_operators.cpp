@@ -1,5 +1,7 @@
 #include "engine/sph_operators.hpp"
 
+#include "engine/pair_kernel.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -10,50 +12,8 @@
 namespace sphforge {
 
 namespace {
-#define SPHFORGE_PAIR_INLINE __attribute__((always_inline)) inline
 // Symmetric 6-component storage (xx yy zz xy yz xz) <-> 3x3 index.
 constexpr int kSym[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
-
-// Kernel gradient factor F = (dW/dr)/r and value W of one pair from r^2 (theory eqs. 1-2), without
-// branches: the pair loops then run straight through (which of the kernel's pieces a pair falls
-// in is unpredictable, and the lists include the Verlet skin, where both are 0). Same formulas
-// as kernels.hpp with the constants hoisted out of the loop.
-template <KernelKind K>
-struct PairKernel {
-  double inv_h, f_scale, w_scale;
-  explicit PairKernel(double h) : inv_h(1.0 / h) {
-    const double sigma = K == KernelKind::WendlandC2 ? wendland_c2_sigma(h) : cubic_spline_sigma(h);
-    f_scale = sigma / (h * h);
-    w_scale = sigma;
-  }
-  /// F(r), 0 beyond the support 2h.
-  SPHFORGE_PAIR_INLINE double factor(double r2) const {
-    const double q = std::sqrt(r2) * inv_h;
-    if constexpr (K == KernelKind::WendlandC2) {
-      const double t = std::max(0.0, 1.0 - 0.5 * q);
-      return f_scale * (-5.0) * t * t * t;
-    } else {
-      const double t = std::max(0.0, 2.0 - q);
-      const double inner = -3.0 + 2.25 * q, outer = -0.75 * t * t / q;  // q = 0 only selects inner
-      return f_scale * (q < 1.0 ? inner : outer);
-    }
-  }
-  /// F(r) and W(r), both 0 beyond the support.
-  SPHFORGE_PAIR_INLINE void factor_and_value(double r2, double& F, double& W) const {
-    const double q = std::sqrt(r2) * inv_h;
-    if constexpr (K == KernelKind::WendlandC2) {
-      const double t = std::max(0.0, 1.0 - 0.5 * q);
-      const double t3 = t * t * t;
-      F = f_scale * (-5.0) * t3;
-      W = w_scale * t3 * t * (2.0 * q + 1.0);
-    } else {
-      const double t = std::max(0.0, 2.0 - q);
-      const bool in = q < 1.0;
-      F = f_scale * (in ? -3.0 + 2.25 * q : -0.75 * t * t / q);
-      W = w_scale * (in ? 1.0 - 1.5 * q * q + 0.75 * q * q * q : 0.25 * t * t * t);
-    }
-  }
-};
 
 // Each pair pass is a per-particle function (always inlined) and two drivers running it over all
 // particles: a generic one and, on x86-64 CPUs that have them, one compiled for AVX2 + FMA, chosen
@@ -73,26 +33,6 @@ bool cpu_has_avx2_fma() { return false; }
 #endif
 #define SPHFORGE_ALWAYS_INLINE __attribute__((always_inline)) inline
 
-// One particle's neighbour list decoded to 32-bit indices (engine/neighbours.hpp, section 7): on
-// the stack for the usual lengths, in a per-thread buffer for a longer list (grown once). The pair
-// loops below then run over plain indices.
-struct DecodedList {
-  static constexpr std::size_t kInline = 1024;
-  std::uint32_t local[kInline];
-  const std::uint32_t* indices;
-  std::size_t count;
-  DecodedList(const NeighbourList& nl, std::size_t i) {
-    const std::size_t n = nl.size(i);
-    std::uint32_t* out = local;
-    if (n > kInline) {
-      static thread_local std::vector<std::uint32_t> spill;
-      if (spill.size() < n) spill.resize(n);
-      out = spill.data();
-    }
-    count = nl.decode(i, out);
-    indices = out;
-  }
-};
 
 struct GradientArgs {
   const NeighbourList* nl;
