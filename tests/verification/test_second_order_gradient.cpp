@@ -61,6 +61,23 @@ Cloud jittered_block(int side) {
   return c;
 }
 
+/// Both velocity gradients of the field v on the cloud: the first-order corrected one (eqs. 3a-3b)
+/// and the second-order one (eqs. 131-133) with its matrices B, C and the condition estimate.
+struct Gradients {
+  std::vector<double> first, second, B, C, condition;
+};
+Gradients gradients(const Cloud& c, KernelKind kernel, const std::vector<double>& v) {
+  Gradients g{std::vector<double>(9 * c.n), std::vector<double>(9 * c.n), std::vector<double>(27 * c.n),
+              std::vector<double>(6 * c.n), std::vector<double>(c.n)};
+  velocity_gradient(c.nl, kernel, c.h, c.x.data(), v.data(), c.volume.data(), true, g.first.data(), nullptr, nullptr,
+                    c.n);
+  second_order_correction(c.nl, kernel, c.h, c.x.data(), c.volume.data(), g.B.data(), g.C.data(), g.condition.data(),
+                          c.n);
+  second_order_velocity_gradient(c.nl, kernel, c.h, c.x.data(), v.data(), c.volume.data(), g.B.data(), g.C.data(),
+                                 g.second.data(), c.n);
+  return g;
+}
+
 // v_a = A_ab x_b + 1/2 H_abc x_b x_c (H symmetric in b, c), gradient A + H x.
 struct QuadraticField {
   double A[3][3] = {{0.3, -1.2, 0.5}, {2.0, 0.7, -0.4}, {-0.9, 1.1, -1.5}};  // 1/s
@@ -112,10 +129,8 @@ void check_quadratic_patch(KernelKind kernel) {
   const QuadraticField f;
   std::vector<double> v(3 * c.n);
   for (std::size_t i = 0; i < c.n; ++i) f.velocity(&c.x[3 * i], &v[3 * i]);
-  std::vector<double> B(27 * c.n), C(6 * c.n), condition(c.n), L(9 * c.n);
-  second_order_correction(c.nl, kernel, c.h, c.x.data(), c.volume.data(), B.data(), C.data(), condition.data(), c.n);
-  second_order_velocity_gradient(c.nl, kernel, c.h, c.x.data(), v.data(), c.volume.data(), B.data(), C.data(),
-                                 L.data(), c.n);
+  const Gradients g = gradients(c, kernel, v);
+  const std::vector<double>&L = g.second, &condition = g.condition;
   std::vector<bool> second(c.n), second_surface(c.n);
   std::size_t count = 0, count_surface = 0;
   double worst_condition = 0.0;
@@ -134,9 +149,7 @@ void check_quadratic_patch(KernelKind kernel) {
   EXPECT_LT(e2s, 1e-8);
 
   // The first-order correction on the same particles: exact for linear fields only.
-  std::vector<double> L1(9 * c.n);
-  velocity_gradient(c.nl, kernel, c.h, c.x.data(), v.data(), c.volume.data(), true, L1.data(), nullptr, nullptr, c.n);
-  const double e1s = max_error(c, f, L1, second_surface);
+  const double e1s = max_error(c, f, g.first, second_surface);
   EXPECT_GT(e1s, 1e-2);
   std::printf("quadratic patch (%s): second order max error %.2e (surface %.2e), first order at the surface %.2e; "
               "largest condition %.0f; second order at %zu of %zu particles\n",
@@ -173,13 +186,8 @@ TEST(SecondOrderGradient, BendingStrainAtTheOuterFibreOfThePlateLattice) {
     v[3 * i] = -kappa * x * y;
     v[3 * i + 1] = 0.5 * kappa * x * x;
   }
-  std::vector<double> L1(9 * c.n), L2(9 * c.n), B(27 * c.n), C(6 * c.n), condition(c.n);
-  velocity_gradient(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), v.data(), c.volume.data(), true, L1.data(),
-                    nullptr, nullptr, c.n);
-  second_order_correction(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), c.volume.data(), B.data(), C.data(),
-                          condition.data(), c.n);
-  second_order_velocity_gradient(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), v.data(), c.volume.data(), B.data(),
-                                 C.data(), L2.data(), c.n);
+  const Gradients g = gradients(c, KernelKind::CubicSpline, v);
+  const std::vector<double>&L1 = g.first, &L2 = g.second, &condition = g.condition;
   // A particle in the middle of the length (away from the beam's ends), at each fibre across the
   // thickness and on the side face z = dx/2 (one-sided also in z).
   for (int j = 0; j < ny; ++j) {
@@ -229,13 +237,8 @@ TEST(SecondOrderGradient, BendingStrainNextToTheClampOfThePlateLattice) {
     v[3 * i] = -kappa * x * y;
     v[3 * i + 1] = 0.5 * kappa * x * x;
   }
-  std::vector<double> L1(9 * c.n), L2(9 * c.n), B(27 * c.n), C(6 * c.n), condition(c.n);
-  velocity_gradient(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), v.data(), c.volume.data(), true, L1.data(),
-                    nullptr, nullptr, c.n);
-  second_order_correction(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), c.volume.data(), B.data(), C.data(),
-                          condition.data(), c.n);
-  second_order_velocity_gradient(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), v.data(), c.volume.data(), B.data(),
-                                 C.data(), L2.data(), c.n);
+  const Gradients g = gradients(c, KernelKind::CubicSpline, v);
+  const std::vector<double>&L1 = g.first, &L2 = g.second;
   double ratio[4] = {};
   for (int col = 0; col < 4; ++col) {
     // outer fibre (j = ny - 1), second layer in z
@@ -264,11 +267,9 @@ TEST(SecondOrderGradient, MomentumTermIsDualToTheGradient) {
     density[i] = 1000.0 * (1.0 + 0.1 * u(rng));
     mass[i] = density[i] * c.volume[i];
   }
-  std::vector<double> B(27 * c.n), C(6 * c.n), L(9 * c.n), stress_c(9 * c.n), stress_b(27 * c.n), a(3 * c.n);
-  second_order_correction(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), c.volume.data(), B.data(), C.data(),
-                          nullptr, c.n);
-  second_order_velocity_gradient(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), v.data(), c.volume.data(), B.data(),
-                                 C.data(), L.data(), c.n);
+  const Gradients g = gradients(c, KernelKind::CubicSpline, v);
+  const std::vector<double>&B = g.B, &C = g.C, &L = g.second;
+  std::vector<double> stress_c(9 * c.n), stress_b(27 * c.n), a(3 * c.n);
   corrected_stress(p.data(), S.data(), C.data(), stress_c.data(), c.n);
   second_order_stress(p.data(), S.data(), B.data(), stress_b.data(), c.n);
   ArtificialViscosity no_viscosity{0.0, 0.0, 0.1};
