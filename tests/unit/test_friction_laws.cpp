@@ -176,6 +176,40 @@ TEST(FrictionLaws, CoulombTrescaSwitchesWhereMuPReachesTheShearLimit) {
   EXPECT_LT(first_stick - fn_switch, step + 1e-12);
 }
 
+// Eq. 18j: with sticking "kinematic", a contact in the sticking regime (mu f_n > tau_y A) gets the
+// force that makes it move with the wall at the end of the step whatever its size, and is flagged
+// kHeldOnWall (no friction heat in the core); in the Coulomb regime the law is unchanged. The
+// particle slides at 1 m/s on a wall that also pulls it with a = 50 m/s^2: its sticking force,
+// -m (v/dt + a) = -1000.05 N, is far above tau_y A = 1.15 N. Tolerance: round-off (1e-12 relative).
+TEST(FrictionLaws, CoulombTrescaKinematicStickingHoldsWhateverTheForce) {
+  LoadedLaw kinematic(json{{"plugin", "coulomb_tresca"}, {"friction_coefficient", 0.5}, {"sticking", "kinematic"}});
+  LoadedLaw limited(json{{"plugin", "coulomb_tresca"}, {"friction_coefficient", 0.5}});
+  const double tresca = 2e6 * 1e-6 / std::sqrt(3.0);
+  for (const double fn : {0.5 * tresca, 4.0 * tresca}) {  // Coulomb regime, then sticking regime
+    OneContact c, d;
+    for (OneContact* k : {&c, &d}) {
+      k->mass = 1e-3, k->yield = 2e6, k->area = 1e-6, k->fn = fn;
+      k->vt[0] = 1.0, k->acc[0] = 50.0;
+    }
+    ContactBatch b = c.batch(1e-6, 1e6), e = d.batch(1e-6, 1e6);
+    kinematic.law->tangential_forces(b);
+    limited.law->tangential_forces(e);
+    const double v_end = c.vt[0] + 1e-6 * (c.acc[0] + c.ft[0] / c.mass);
+    std::printf("coulomb_tresca kinematic, f_n = %.4f N: f_t = %.6f N (force_limited %.6f N), flag %.0f, end slip %.2e m/s\n",
+                fn, c.ft[0], d.ft[0], c.sticking, v_end);
+    if (0.5 * fn > tresca) {
+      EXPECT_EQ(c.sticking, kHeldOnWall);
+      EXPECT_NEAR(c.ft[0], -1e-3 * (1.0 / 1e-6 + 50.0), 1e-12 * 1000.05);
+      EXPECT_NEAR(v_end, 0.0, 1e-9);  // moves with the wall (round-off of 1 - 1)
+      EXPECT_NEAR(d.ft[0], -tresca, 1e-12 * tresca);  // the default slides at the shear limit
+    } else {
+      EXPECT_EQ(c.sticking, d.sticking);
+      EXPECT_EQ(c.ft[0], d.ft[0]);  // the Coulomb regime is the same law
+      EXPECT_NEAR(c.ft[0], -0.5 * fn, 1e-12 * fn);
+    }
+  }
+}
+
 // Item 5 (law): Navier slip. A particle pulled along the wall by a constant force F > tau_0 A
 // reaches the slip speed where the wall shear balances it, tau_0 + beta V^n = F / A; the discrete
 // update v' = v + dt (F - tau_w(v) A)/m has this speed as its fixed point, so the tolerance is the

@@ -136,6 +136,30 @@ TEST(Contact, RotatingDieTorqueAndFrictionHeat) {
   EXPECT_LT(std::abs(heat_err), 1e-12) << line;
 }
 
+// 11.6c Kinematic sticking (eq. 18j): the same rotating die with `sticking: "kinematic"`. Every
+// contact is in the sticking regime, so the law now holds each particle on the die whatever the
+// force (the held disc's constraint then takes it back): no contact slips at the end of a step and
+// the core books no friction heat, exactly 0 W (the flag, not a small number). The torque is then the
+// holding forces' moment, sum m r^2 omega / dt for the disc held at rest, far above the shear-limit
+// torque of 11.6 (which the default law gives); asserted only to exceed it, as its size is the
+// step's inertia, not a material property.
+TEST(Contact, RotatingDieKinematicStickingMakesNoFrictionHeat) {
+  const RunResult r = run_case("rotating_die.json", "rotating_die_kinematic", {"contact.law.sticking=kinematic"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const History h = read_history(r.out / "history.csv");
+  const double R = 0.02, sigma_y = 1e6;
+  const double shear_limit_torque = 2.0 / 3.0 * std::numbers::pi * R * R * R * sigma_y / std::sqrt(3.0);
+  const double torque = -h["die_torque_Nm"].back();
+  double heat_max = 0.0;
+  for (double q : h["die_friction_heat_W"]) heat_max = std::max(heat_max, std::abs(q));
+  std::printf("rotating die, kinematic sticking: friction heat max %.3g W, sticking fraction %.3f, torque %.4g N m "
+              "(shear-limit torque %.4f N m)\n",
+              heat_max, h["die_sticking_fraction_1"].back(), torque, shear_limit_torque);
+  EXPECT_EQ(heat_max, 0.0);
+  EXPECT_EQ(h["die_sticking_fraction_1"].back(), 1.0);
+  EXPECT_GT(torque, shear_limit_torque);
+}
+
 // 11.6b Friction heat split (eq. 18f): the rotating die with a thermal section and
 // friction_heat_to_workpiece = 0.3. The held disc neither deforms nor convects, and conduction
 // moves heat between particles without changing its sum, so its heat content grows by exactly

@@ -34,8 +34,14 @@ struct ContactBatch {
   /// survives reordering; zeroed when a particle leaves the contact. Null unless needs_history().
   double* history = nullptr;
   double* tangential_force = nullptr;       ///< 3 per contact, OUT: force on the particle (N)
-  double* sticking = nullptr;               ///< OUT: 1 when the contact sticks, else 0
+  /// OUT: 0 when the contact slides; 1 when it sticks (its friction heat |f_t| |v_t|, eq. 18e, is the
+  /// slip the force removes within the step); kHeldOnWall when the law holds the particle on the
+  /// wall whatever the force (kinematic sticking, eq. 18j): no slip, so no friction heat.
+  double* sticking = nullptr;
 };
+
+/// ContactBatch::sticking value of a contact held on the wall kinematically (eq. 18j).
+inline constexpr double kHeldOnWall = 2.0;
 
 /// Tangential force that brings the relative tangential velocity to zero at the end of the step
 /// with the leapfrog update v' = v + dt (a_other + f/m): f = -m (v_t / dt + a_other,t)

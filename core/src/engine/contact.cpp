@@ -240,10 +240,14 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       torque -= x[3 * i] * f[1] - x[3 * i + 1] * f[0];
       power += f[0] * batch_vwall_[3 * c] + f[1] * batch_vwall_[3 * c + 1] + f[2] * batch_vwall_[3 * c + 2];
       // Friction heat |f_t| |v_t| (eq. 18e); the workpiece's share phi heats the particle (eq. 18f).
+      // A contact held on the wall kinematically does not slip and makes none (eq. 18j): its holding
+      // force carries the mass-scaled inertia, which is not a dissipation.
       const double* ft = &batch_ft_[3 * c];
       const double* vt = &batch_vt_[3 * c];
-      const double q = std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]) *
-                       std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+      const double q = batch_stick_[c] == kHeldOnWall
+                           ? 0.0
+                           : std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]) *
+                                 std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
       heat += q;
       if (a.heat_source) a.heat_source[i] += phi * q / (a.mass[i] * inv_s);
       // The rest, (1 - phi) q, goes to the tool's thermal particles near i (eq. 91), when it has any.

@@ -7,6 +7,10 @@
 //   that holds it is f_stick, but never more than the shear strength tau_y A of the particle's
 //   contact area: beyond it the material at the wall shears at its yield stress (Tresca friction
 //   factor 1), which is the min() of the law.
+// - With `sticking: "kinematic"` (the friction-extrusion paper's rule, eq. 18j) a contact in the
+//   sticking regime is held on the wall by f_stick whatever its size, and makes no friction heat.
+//   Under mass scaling f_stick carries the scaled inertia of the particle, so the default limit
+//   tau_y A lets the wall layer slide where the paper's particles stick.
 #include <cmath>
 
 #include "sphforge/plugin.hpp"
@@ -17,7 +21,8 @@ using namespace sphforge;
 
 class CoulombTresca final : public ContactLaw {
  public:
-  explicit CoulombTresca(const ParamValues& p) : mu_(p.number("friction_coefficient")) {}
+  explicit CoulombTresca(const ParamValues& p)
+      : mu_(p.number("friction_coefficient")), kinematic_(p.string("sticking") == "kinematic") {}
 
   bool needs_yield_stress() const override { return true; }
 
@@ -32,6 +37,11 @@ class CoulombTresca final : public ContactLaw {
       const double stick_norm = sticking_force(b, c, stick);
       const bool tresca_regime = coulomb > tresca;
       const double limit = tresca_regime ? tresca : coulomb;
+      if (tresca_regime && kinematic_) {
+        for (int d = 0; d < 3; ++d) ft[d] = stick[d];
+        b.sticking[c] = kHeldOnWall;
+        continue;
+      }
       if (stick_norm <= limit) {
         for (int d = 0; d < 3; ++d) ft[d] = stick[d];
       } else {
@@ -45,13 +55,19 @@ class CoulombTresca final : public ContactLaw {
 
  private:
   double mu_;
+  bool kinematic_;
 };
 
 const PluginDescriptor& descriptor() {
   static const PluginDescriptor d = make_plugin_descriptor<CoulombTresca>(
       "coulomb_tresca", "0.1.0",
       "Coulomb friction capped by the Tresca shear limit sigma_y A / sqrt(3); full sticking beyond it",
-      {ParamSpec::number("friction_coefficient", "1", std::nullopt, "Coulomb coefficient mu", 0.0, 10.0)});
+      {ParamSpec::number("friction_coefficient", "1", std::nullopt, "Coulomb coefficient mu", 0.0, 10.0),
+       ParamSpec::string("sticking", "force_limited",
+                         "sticking regime (mu f_n > tau_y A): force_limited (held by at most tau_y A, eq. 18d) or "
+                         "kinematic (held on the wall whatever the force, no friction heat: the friction-extrusion "
+                         "paper's rule, eq. 18j)",
+                         {"force_limited", "kinematic"})});
   return d;
 }
 
