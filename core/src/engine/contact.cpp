@@ -74,7 +74,6 @@ void PenaltyContact::bin_particles(const double* x, std::size_t n) {
   }
   // 4-byte indices: particles and cells (at most 8 n + 64) fit, as in the neighbour lists.
   if (n > std::numeric_limits<std::uint32_t>::max() / 16) throw std::length_error("too many particles");
-  cell_of_.resize(n);
   cell_start_.assign(total + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
     std::size_t c[3];
@@ -84,7 +83,6 @@ void PenaltyContact::bin_particles(const double* x, std::size_t n) {
     ++cell_start_[cell_of_[i] + 1];
   }
   for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
-  cell_particles_.resize(n);
   cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) cell_particles_[cell_fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
   cell_near_.resize(total);
@@ -96,7 +94,23 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
   const std::size_t n = a.n;
   const double* x = a.x;
   const double* v = a.v;
-  slot_of_.resize(n);
+  // The per-particle indices: in the borrowed storage when it holds them (the pass scratch, idle
+  // after the momentum pass), so that a scene does not hold both; else in this object's arrays.
+  if (a.borrow.size() * sizeof(double) >= 3 * n * sizeof(std::uint32_t)) {
+    std::vector<std::uint32_t>().swap(own_slot_of_);
+    std::vector<std::uint32_t>().swap(own_cell_of_);
+    std::vector<std::uint32_t>().swap(own_cell_particles_);
+    slot_of_ = reinterpret_cast<std::uint32_t*>(a.borrow.data());
+    cell_of_ = slot_of_ + n;
+    cell_particles_ = cell_of_ + n;
+  } else {
+    own_slot_of_.resize(n);
+    own_cell_of_.resize(n);
+    own_cell_particles_.resize(n);
+    slot_of_ = own_slot_of_.data();
+    cell_of_ = own_cell_of_.data();
+    cell_particles_ = own_cell_particles_.data();
+  }
   if (stats_.size() != tools.size()) stats_.assign(tools.size(), ToolContactStats{});
   if (history_.size() != tools.size()) history_.resize(tools.size());
   std::size_t total = 0, stuck = 0;
@@ -158,7 +172,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       for (int c = 0; c < 3; ++c) near_x_[3 * k + c] = x[3 * near_particles_[k] + c];
     tool.signed_distance(m, near_x_.data(), near_distance_.data(), near_normal_.data(), reach);
     // Each particle's slot in the query (a particle outside the near cells is farther than reach).
-    std::fill(slot_of_.begin(), slot_of_.end(), kFar);
+    std::fill(slot_of_, slot_of_ + n, kFar);
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < m; ++k) slot_of_[near_particles_[k]] = static_cast<std::uint32_t>(k);
     auto touching = [&](std::size_t i) { return slot_of_[i] != kFar && near_distance_[slot_of_[i]] < reach; };

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "sphforge/contact_law.hpp"
@@ -43,6 +44,9 @@ struct ContactArrays {
   /// Per tool (null: none does): 1 when it carries thermal particles that take its share of the
   /// friction heat (eq. 91); the pass then records that share per contact (PenaltyContact::tool_heat()).
   const unsigned char* tool_takes_heat = nullptr;
+  /// Storage idle during the pass (the caller's pass scratch) that it may use for its per-particle
+  /// indices (12 bytes per particle) instead of holding its own; overwritten. Empty: none lent.
+  std::span<double> borrow;
 };
 
 /// The tool's share (1 - phi) |f_t| |v_t| of one contact's friction heat (eqs. 18e-18f), for the
@@ -101,8 +105,8 @@ class PenaltyContact {
   /// Memory held by the scratch arrays and the friction memory (bytes).
   std::size_t bytes() const {
     std::size_t total = (near_x_.capacity() + near_distance_.capacity() + near_normal_.capacity()) * sizeof(double) +
-                        (slot_of_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
-                         cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
+                        (own_slot_of_.capacity() + own_cell_of_.capacity() + cell_start_.capacity() +
+                         own_cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
                             sizeof(std::uint32_t) +
                         particle_.capacity() * sizeof(std::size_t) + cell_near_.capacity() +
                         tool_heat_.capacity() * sizeof(ToolHeatRecord) +
@@ -128,16 +132,20 @@ class PenaltyContact {
   std::vector<std::vector<FrictionHistoryEntry>> history_;
   std::vector<FrictionHistoryEntry> history_next_;
   // Scratch, kept between steps so that the pass does not allocate once warmed up. Per particle
-  // only 4-byte indices (12 bytes in all); the distances and normals are held for the particles of
-  // the near cells only.
+  // only 4-byte indices (12 bytes in all: slot_of_, cell_of_, cell_particles_, in the borrowed
+  // storage when ContactArrays::borrow is large enough, else in the own_ arrays); the distances and
+  // normals are held for the particles of the near cells only.
   static constexpr std::uint32_t kFar = 0xffffffffu;  ///< slot_of_: not in a near cell
-  std::vector<std::uint32_t> slot_of_;  ///< each particle's place in near_particles_, or kFar
+  std::uint32_t* slot_of_ = nullptr;  ///< each particle's place in near_particles_, or kFar
+  std::uint32_t* cell_of_ = nullptr;  ///< each particle's culling cell
+  std::uint32_t* cell_particles_ = nullptr;  ///< the particles sorted by cell
+  std::vector<std::uint32_t> own_slot_of_, own_cell_of_, own_cell_particles_;
   std::vector<std::size_t> particle_;   ///< the touching particles, ascending (the law's batch)
   // Culling cells (edge 2 dx) over the particles, rebuilt at every pass.
   void bin_particles(const double* x, std::size_t n);
   double cell_edge_ = 0.0, grid_lo_[3] = {0, 0, 0};
   std::size_t grid_dims_[3] = {1, 1, 1};
-  std::vector<std::uint32_t> cell_of_, cell_start_, cell_particles_, cell_fill_;
+  std::vector<std::uint32_t> cell_start_, cell_fill_;
   std::vector<unsigned char> cell_near_;
   // Particles of the near cells (in cell order) and their batch query (positions, distances, normals).
   std::vector<std::uint32_t> near_particles_;

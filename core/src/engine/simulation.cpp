@@ -966,6 +966,9 @@ void Simulation::mechanics_rates() {
     ca.mass_scaling = settings_.mass_scaling;
     ca.tool_takes_heat = any_attached_ ? tool_takes_heat_.data() : nullptr;
     ca.id = fields_.i64(field::id);
+    // The pass scratch is dead after the momentum pass (until the next step's build): it lends the
+    // contact pass the room for its 12 bytes of indices per particle.
+    ca.borrow = scratch_;
     contacts_ = contact_.apply(tools_, ca);
     contact_time_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - contact_start).count();
   }
