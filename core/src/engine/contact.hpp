@@ -102,6 +102,12 @@ class PenaltyContact {
   /// writers: particle i of `id` (n particles) into out[3 i .. 3 i + 2].
   void friction_history_dense(std::size_t tool, const std::int64_t* id, std::size_t n, double* out) const;
 
+  /// Memory held by the friction memory (both copies, capacities), in bytes; part of bytes().
+  std::size_t history_bytes() const {
+    std::size_t total = history_next_.capacity() * sizeof(FrictionHistoryEntry);
+    for (const auto& h : history_) total += h.capacity() * sizeof(FrictionHistoryEntry);
+    return total;
+  }
   /// Memory held by the scratch arrays and the friction memory (bytes).
   std::size_t bytes() const {
     std::size_t total = (near_x_.capacity() + near_distance_.capacity() + near_normal_.capacity()) * sizeof(double) +
@@ -109,9 +115,7 @@ class PenaltyContact {
                          own_cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
                             sizeof(std::uint32_t) +
                         particle_.capacity() * sizeof(std::size_t) + cell_near_.capacity() +
-                        tool_heat_.capacity() * sizeof(ToolHeatRecord) +
-                        history_next_.capacity() * sizeof(FrictionHistoryEntry);
-    for (const auto& h : history_) total += h.capacity() * sizeof(FrictionHistoryEntry);
+                        tool_heat_.capacity() * sizeof(ToolHeatRecord) + history_bytes();
     for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vn_, &batch_damping_,
                           &batch_vt_, &batch_acc_, &batch_area_, &batch_yield_, &batch_history_, &batch_ft_,
                           &batch_stick_, &batch_vwall_})
