@@ -30,6 +30,10 @@ const FrictionHistoryEntry* find_history(const std::vector<FrictionHistoryEntry>
 }
 }  // namespace
 
+FrictionHistoryEntry* PenaltyContact::friction_history_entry(std::size_t tool, std::int64_t id) {
+  return const_cast<FrictionHistoryEntry*>(find_history(history_[tool], id));
+}
+
 void PenaltyContact::friction_history_dense(std::size_t tool, const std::int64_t* id, std::size_t n,
                                             double* out) const {
   const std::vector<FrictionHistoryEntry>& h = history_[tool];

@@ -96,6 +96,9 @@ class PenaltyContact {
   /// The friction memory of tool `tool` after the last apply(): one entry per particle touching it,
   /// ascending ids; empty when its law keeps none. A particle not listed has none (eq. 18b: zero).
   const std::vector<FrictionHistoryEntry>& friction_history(std::size_t tool) const { return history_[tool]; }
+  /// Particle `id`'s friction memory with tool `tool`, or null when it has none (not touching):
+  /// for the symmetry wrap, which transforms it as it transforms the vector fields (eq. 32).
+  FrictionHistoryEntry* friction_history_entry(std::size_t tool, std::int64_t id);
   /// Number of tools whose friction memory friction_history() holds (those of configure()).
   std::size_t history_tools() const { return history_.size(); }
   /// Writes tool `tool`'s friction memory as 3 numbers per particle (0 where none) for the output

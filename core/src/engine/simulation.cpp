@@ -828,7 +828,18 @@ void Simulation::mechanics_rates() {
   const std::size_t scratch_per_particle = 1 + shared_c_r + 9 + (second ? 54 : 0);
   if (neighbours_.needs_rebuild(x, n, search, skin)) {
     // Symmetry: particles that crossed a cut re-enter through its image (eq. 32).
-    if (sym) symmetry_.wrap(fields_, n);
+    if (sym && symmetry_.wrap(fields_, n, wrap_moves_) > 0) {
+      // The friction memory is a vector, like the fields the wrap transformed (Q v, eq. 32); it is
+      // kept by the contact pass by particle id (eq. 18b), so it is transformed here, the same way.
+      const std::int64_t* ids = fields_.i64(field::id);
+      for (std::size_t t = 0; t < contact_.history_tools(); ++t)
+        for (const auto& [i, k] : wrap_moves_)
+          if (FrictionHistoryEntry* e = contact_.friction_history_entry(t, ids[i])) {
+            double rotated[3];
+            Symmetry::transform_vector(symmetry_.images()[k].Q, e->value, rotated);
+            for (int d = 0; d < 3; ++d) e->value[d] = rotated[d];
+          }
+    }
     // Memory locality: every few rebuilds, first sort the particles by cell (Morton order within
     // each body; every registered field moves, and nothing else indexed by particle outlives a step).
     if (neighbours_.builds() % kReorderEveryBuilds == 0 && reorder_by_cell(fields_, bodies_, search + skin))
