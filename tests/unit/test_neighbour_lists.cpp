@@ -182,3 +182,31 @@ TEST(NeighbourLists, PairLoopsReadListsLongerThanTheirStackBuffer) {
   }
   EXPECT_GT(checked, 100u);
 }
+
+// The build may take its 20 bytes per point of scratch from a buffer the caller lends (the pass
+// scratch, idle during a build: engine/simulation.cpp): the lists are then the same, entry for
+// entry, and the list holds no build scratch of its own; a buffer too small is not used.
+TEST(NeighbourLists, BorrowedBuildScratchGivesTheSameListsAndHoldsNone) {
+  std::size_t n = 0;
+  const std::vector<double> x = lattice(n);
+  const double radius = 2.6;
+  NeighbourList own, lent, small;
+  own.rebuild(x.data(), n, radius, 0.2 * 1.3);
+  const std::size_t doubles = (n * NeighbourList::build_scratch_bytes_per_point() + 7) / 8;
+  std::vector<double> borrowed(doubles, 0.0), too_small(doubles - 1, 0.0);
+  lent.rebuild(x.data(), n, radius, 0.2 * 1.3, SIZE_MAX, borrowed);
+  small.rebuild(x.data(), n, radius, 0.2 * 1.3, SIZE_MAX, too_small);
+  ASSERT_EQ(lent.count(), n);
+  ASSERT_EQ(lent.pairs(), own.pairs());
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<std::uint32_t> a(own.size(i)), b(lent.size(i)), c(small.size(i));
+    own.decode(i, a.data());
+    lent.decode(i, b.data());
+    small.decode(i, c.data());
+    ASSERT_EQ(a, b) << i;
+    ASSERT_EQ(a, c) << i;
+  }
+  // Only the cell starts (one per cell) are the list's own; the per-point arrays were lent.
+  EXPECT_EQ(lent.build_scratch_bytes() + n * NeighbourList::build_scratch_bytes_per_point(), own.build_scratch_bytes());
+  EXPECT_EQ(small.build_scratch_bytes(), own.build_scratch_bytes());
+}

@@ -220,6 +220,30 @@ TEST_F(OutputWriters, ParticleFramesReadBackWithVtk) {
   }
 }
 
+// Arrays held outside the registry (the contact pass's friction memory, expanded per particle)
+// are written after the fields like one, with their unit; one of the wrong length is refused.
+TEST_F(OutputWriters, ParticleFramesCarryExtraArrays) {
+  FieldRegistry reg = make_registry();
+  fill(reg, 0.0);
+  io::ParticleSeriesWriter writer(dir_);
+  io::ParticleArray extra{"friction_history_die", 3, "N", std::vector<double>(3 * kParticles, 0.0)};
+  extra.values[3 * 6 + 2] = -2.5;
+  writer.write(0, 0.0, reg, kParticles, {extra});
+  auto grid = read_vtu(dir_ / "particles_000000.vtu");
+  vtkPointData* pd = grid->GetPointData();
+  EXPECT_EQ(pd->GetNumberOfArrays(), 5);  // the four fields and the extra array
+  vtkDataArray* h = pd->GetArray("friction_history_die");
+  ASSERT_NE(h, nullptr);
+  EXPECT_EQ(h->GetNumberOfComponents(), 3);
+  EXPECT_EQ(h->GetComponent(6, 2), -2.5);
+  EXPECT_EQ(h->GetComponent(5, 2), 0.0);
+  auto* units = vtkStringArray::SafeDownCast(grid->GetFieldData()->GetAbstractArray("units"));
+  ASSERT_NE(units, nullptr);
+  EXPECT_NE(units->LookupValue("friction_history_die=N"), -1);
+  extra.values.pop_back();
+  EXPECT_THROW(writer.write(1, 1.0, reg, kParticles, {extra}), std::logic_error);
+}
+
 TEST_F(OutputWriters, ParticleSubsetRewriteAndEmptyFrame) {
   FieldRegistry reg = make_registry();
   fill(reg, 0.0);

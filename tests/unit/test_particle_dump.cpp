@@ -23,7 +23,10 @@ TEST(ParticleDump, EveryFieldRoundTripsWithShapeAndUnit) {
   for (int i = 0; i < 12; ++i) fields.f64(field::position)[i] = 0.1 * i + 1e-17;
   for (int i = 0; i < 4; ++i) fields.i64(field::id)[i] = 100 + i;
   const fs::path file = fs::temp_directory_path() / ("sphforge_dump_" + std::to_string(::getpid()) + ".h5");
-  io::write_particle_dump(file, fields, 4, 0.25, 17);
+  // An array held outside the registry (the friction memory, expanded per particle) is dumped too.
+  io::ParticleArray extra{"friction_history_die", 3, "N", std::vector<double>(12, 0.0)};
+  extra.values[3 * 2 + 1] = -0.75;
+  io::write_particle_dump(file, fields, 4, 0.25, 17, {extra});
 
   const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(f, 0);
@@ -65,6 +68,13 @@ TEST(ParticleDump, EveryFieldRoundTripsWithShapeAndUnit) {
   H5Dread(ids, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, id.data());
   EXPECT_EQ(id[3], 103);
   H5Dclose(ids);
+  const hid_t hist = H5Dopen2(f, "/fields/friction_history_die", H5P_DEFAULT);
+  ASSERT_GE(hist, 0);
+  std::vector<double> h(12, 1.0);
+  H5Dread(hist, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, h.data());
+  EXPECT_EQ(h[7], -0.75);
+  EXPECT_EQ(h[6], 0.0);
+  H5Dclose(hist);
   H5Fclose(f);
   fs::remove(file);
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -175,6 +176,22 @@ TEST(Symmetry, RegionWrapAndGhosts) {
   for (int c = 0; c < 6; ++c) EXPECT_NEAR(S[6 + c], expected[c], 1e-14) << c;
   EXPECT_NEAR(L[9 + 3], -7.0, 1e-14);  // L'_yx = -L_xy
   EXPECT_DOUBLE_EQ(f.f64(field::pressure)[1], 42.0);
+  // The moves are reported (particle, image) for state kept outside the registry (the friction
+  // memory, eq. 32): wrapping the particle past theta = 90 deg again gives particle 1 and the image
+  // whose Q moved it, which rotates a vector as the wrap rotated the velocity.
+  x[3] = -0.01, x[4] = 1.0, x[5] = 0.2;
+  std::vector<std::pair<std::size_t, std::size_t>> moves;
+  EXPECT_EQ(quarter.wrap(f, 2, moves), 1u);
+  ASSERT_EQ(moves.size(), 1u);
+  EXPECT_EQ(moves[0].first, 1u);
+  double w[3];
+  const double u[3] = {-1.0, 0.0, 0.5};
+  Symmetry::transform_vector(quarter.images()[moves[0].second].Q, u, w);
+  EXPECT_NEAR(w[0], 0.0, 1e-15);  // round-off of cos(90 deg) ~ 6e-17 times |u| = 1
+  EXPECT_NEAR(w[1], 1.0, 1e-15);
+  EXPECT_DOUBLE_EQ(w[2], 0.5);
+  EXPECT_EQ(quarter.wrap(f, 2, moves), 0u);  // nothing left outside: no moves
+  EXPECT_TRUE(moves.empty());
 
   // Ghosts of a quarter lattice (half-integer sites about the axis): the images within range of
   // the sector; the ghost positions of the full lattice coincide with lattice sites.

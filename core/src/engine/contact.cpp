@@ -13,11 +13,35 @@ void PenaltyContact::configure(const ContactSettings& settings, std::vector<cons
   laws_ = std::move(laws);
   spacing_ = spacing;
   stats_.assign(laws_.size(), ToolContactStats{});
+  history_.assign(laws_.size(), {});
   // A particle pressed on a wall is resisted like a column of its own material of cross-section
   // dx^2 and length dx: k = M dx^2 / dx (eq. 10). Its frequency sqrt(k/m) = c/dx is then of the
   // order of the bulk's own, so the contact does not need a smaller step than the CFL limit.
   // The paper's per-mass lambda1 = P / (2 dt^2) is this k divided by m (eq. 10a).
   stiffness_ = settings.stiffness_factor * p_wave_modulus * spacing;
+}
+
+namespace {
+// The entry of particle `id` in a friction memory sorted by id, or null (not touching last pass).
+const FrictionHistoryEntry* find_history(const std::vector<FrictionHistoryEntry>& h, std::int64_t id) {
+  const auto it = std::lower_bound(h.begin(), h.end(), id,
+                                   [](const FrictionHistoryEntry& e, std::int64_t key) { return e.id < key; });
+  return it != h.end() && it->id == id ? &*it : nullptr;
+}
+}  // namespace
+
+FrictionHistoryEntry* PenaltyContact::friction_history_entry(std::size_t tool, std::int64_t id) {
+  return const_cast<FrictionHistoryEntry*>(find_history(history_[tool], id));
+}
+
+void PenaltyContact::friction_history_dense(std::size_t tool, const std::int64_t* id, std::size_t n,
+                                            double* out) const {
+  const std::vector<FrictionHistoryEntry>& h = history_[tool];
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    const FrictionHistoryEntry* e = h.empty() ? nullptr : find_history(h, id[i]);
+    for (int d = 0; d < 3; ++d) out[3 * i + d] = e ? e->value[d] : 0.0;
+  }
 }
 
 double PenaltyContact::stable_time_step(double min_mass) const {
@@ -54,7 +78,6 @@ void PenaltyContact::bin_particles(const double* x, std::size_t n) {
   }
   // 4-byte indices: particles and cells (at most 8 n + 64) fit, as in the neighbour lists.
   if (n > std::numeric_limits<std::uint32_t>::max() / 16) throw std::length_error("too many particles");
-  cell_of_.resize(n);
   cell_start_.assign(total + 1, 0);
   for (std::size_t i = 0; i < n; ++i) {
     std::size_t c[3];
@@ -64,7 +87,6 @@ void PenaltyContact::bin_particles(const double* x, std::size_t n) {
     ++cell_start_[cell_of_[i] + 1];
   }
   for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
-  cell_particles_.resize(n);
   cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t i = 0; i < n; ++i) cell_particles_[cell_fill_[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
   cell_near_.resize(total);
@@ -76,8 +98,25 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
   const std::size_t n = a.n;
   const double* x = a.x;
   const double* v = a.v;
-  slot_of_.resize(n);
+  // The per-particle indices: in the borrowed storage when it holds them (the pass scratch, idle
+  // after the momentum pass), so that a scene does not hold both; else in this object's arrays.
+  if (a.borrow.size() * sizeof(double) >= 3 * n * sizeof(std::uint32_t)) {
+    std::vector<std::uint32_t>().swap(own_slot_of_);
+    std::vector<std::uint32_t>().swap(own_cell_of_);
+    std::vector<std::uint32_t>().swap(own_cell_particles_);
+    slot_of_ = reinterpret_cast<std::uint32_t*>(a.borrow.data());
+    cell_of_ = slot_of_ + n;
+    cell_particles_ = cell_of_ + n;
+  } else {
+    own_slot_of_.resize(n);
+    own_cell_of_.resize(n);
+    own_cell_particles_.resize(n);
+    slot_of_ = own_slot_of_.data();
+    cell_of_ = own_cell_of_.data();
+    cell_particles_ = own_cell_particles_.data();
+  }
   if (stats_.size() != tools.size()) stats_.assign(tools.size(), ToolContactStats{});
+  if (history_.size() != tools.size()) history_.resize(tools.size());
   std::size_t total = 0, stuck = 0;
   tool_heat_.clear();
   if (n > 0) bin_particles(x, n);
@@ -92,7 +131,10 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     tool.reaction_torque_Nm = 0.0;
     tool.power_W = 0.0;
     const ContactLaw* law = t < laws_.size() ? laws_[t] : nullptr;
-    double* hist = t < a.history.size() ? a.history[t] : nullptr;
+    // The law's per-contact memory (eq. 18b), kept for the touching particles by id.
+    const bool keeps_history = law != nullptr && law->needs_history();
+    if (keeps_history && a.id == nullptr) throw std::logic_error("PenaltyContact: a friction memory needs particle ids");
+    std::vector<FrictionHistoryEntry>& history = history_[t];
     // A wall law may act a little beyond touching (eq. 18i); the penalty still needs g > 0.
     const double reach = contact_radius + (law ? law->wall_range() * spacing_ : 0.0);
     Eigen::Vector3d lo, hi;
@@ -134,22 +176,18 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       for (int c = 0; c < 3; ++c) near_x_[3 * k + c] = x[3 * near_particles_[k] + c];
     tool.signed_distance(m, near_x_.data(), near_distance_.data(), near_normal_.data(), reach);
     // Each particle's slot in the query (a particle outside the near cells is farther than reach).
-    std::fill(slot_of_.begin(), slot_of_.end(), kFar);
+    std::fill(slot_of_, slot_of_ + n, kFar);
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < m; ++k) slot_of_[near_particles_[k]] = static_cast<std::uint32_t>(k);
     auto touching = [&](std::size_t i) { return slot_of_[i] != kFar && near_distance_[slot_of_[i]] < reach; };
-    // A particle that left the contact forgets its tangential spring (eq. 18b).
-    if (hist) {
-#pragma omp parallel for schedule(static)
-      for (std::size_t i = 0; i < n; ++i)
-        if (!touching(i)) hist[3 * i] = hist[3 * i + 1] = hist[3 * i + 2] = 0.0;
-    }
-
     // Gather the touching particles in index order (deterministic).
     particle_.clear();
     for (std::size_t i = 0; i < n; ++i)
       if (touching(i)) particle_.push_back(i);
     const std::size_t nc = particle_.size();
+    // A particle that left the contact forgets its tangential spring (eq. 18b): the memory kept
+    // is that of this pass's contacts only (rebuilt below).
+    if (nc == 0) history.clear();
     if (nc == 0) continue;
     batch_mass_.resize(nc);
     batch_normal_.resize(3 * nc);
@@ -191,8 +229,10 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
         batch_vt_[3 * c + d] = vt[d];
         batch_vwall_[3 * c + d] = v_wall[d];
         batch_acc_[3 * c + d] = a.acceleration ? a.acceleration[3 * i + d] : 0.0;
-        batch_history_[3 * c + d] = hist ? hist[3 * i + d] : 0.0;
       }
+      // Its memory from the last pass, zero for a particle that was not touching then.
+      const FrictionHistoryEntry* e = keeps_history && !history.empty() ? find_history(history, a.id[i]) : nullptr;
+      for (int d = 0; d < 3; ++d) batch_history_[3 * c + d] = e ? e->value[d] : 0.0;
     }
 
     if (law != nullptr) {
@@ -211,12 +251,13 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       batch.acceleration = batch_acc_.data();
       batch.contact_area = batch_area_.data();
       batch.yield_stress = batch_yield_.data();
-      batch.history = hist ? batch_history_.data() : nullptr;
+      batch.history = keeps_history ? batch_history_.data() : nullptr;
       batch.tangential_force = batch_ft_.data();
       batch.sticking = batch_stick_.data();
       law->tangential_forces(batch);
     }
 
+    history_next_.clear();
     double rx = 0.0, ry = 0.0, rz = 0.0, torque = 0.0, power = 0.0, heat = 0.0, gap_sum = 0.0, gap_max = 0.0;
     std::size_t tool_stuck = 0;
     const bool takes_heat = a.tool_takes_heat && a.tool_takes_heat[t] != 0;
@@ -231,8 +272,8 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
         f[d] = batch_fn_[c] * batch_normal_[3 * c + d] + batch_ft_[3 * c + d];
         a.force[3 * i + d] += f[d];
       }
-      if (hist)
-        for (int d = 0; d < 3; ++d) hist[3 * i + d] = batch_history_[3 * c + d];
+      if (keeps_history)
+        history_next_.push_back({a.id[i], {batch_history_[3 * c], batch_history_[3 * c + 1], batch_history_[3 * c + 2]}});
       // Newton's third law: the tool receives -f; torque about the z axis (x f_y - y f_x).
       rx -= f[0];
       ry -= f[1];
@@ -258,6 +299,14 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       gap_sum += std::max(batch_gap_[c], 0.0);
       gap_max = std::max(gap_max, batch_gap_[c]);
       tool_stuck += batch_stick_[c] > 0.5 ? 1 : 0;
+    }
+    // The touching particles' memory becomes the tool's, sorted by id for the next pass's lookups.
+    if (keeps_history) {
+      std::sort(history_next_.begin(), history_next_.end(),
+                [](const FrictionHistoryEntry& p, const FrictionHistoryEntry& q) { return p.id < q.id; });
+      history.swap(history_next_);
+    } else {
+      history.clear();
     }
     tool.reaction_force_N = Eigen::Vector3d(rx, ry, rz);
     tool.reaction_torque_Nm = torque;

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "sphforge/contact_law.hpp"
@@ -36,11 +37,16 @@ struct ContactArrays {
   /// W/kg of physical mass, the workpiece's share of the friction heat is added (null: isothermal)
   double* heat_source = nullptr;
   double mass_scaling = 1.0;             ///< inertial / physical mass (eq. 24)
-  /// Per tool: its friction law's memory, 3 per particle (field friction_history_<tool>), or null.
-  std::vector<double*> history;
+  /// Particle ids (field `id`): the key of the friction laws' per-contact memory, which the pass
+  /// keeps for the touching particles only (PenaltyContact::friction_history); the id, unlike the
+  /// index, follows the particle through reordering and removal. Needed when a law needs_history().
+  const std::int64_t* id = nullptr;
   /// Per tool (null: none does): 1 when it carries thermal particles that take its share of the
   /// friction heat (eq. 91); the pass then records that share per contact (PenaltyContact::tool_heat()).
   const unsigned char* tool_takes_heat = nullptr;
+  /// Storage idle during the pass (the caller's pass scratch) that it may use for its per-particle
+  /// indices (12 bytes per particle) instead of holding its own; overwritten. Empty: none lent.
+  std::span<double> borrow;
 };
 
 /// The tool's share (1 - phi) |f_t| |v_t| of one contact's friction heat (eqs. 18e-18f), for the
@@ -49,6 +55,12 @@ struct ToolHeatRecord {
   std::size_t tool = 0;
   std::size_t particle = 0;  ///< the workpiece particle in contact
   double heat_W = 0.0;
+};
+
+/// One touching particle's friction memory (ContactBatch::history, 3 numbers, N for `coulomb`).
+struct FrictionHistoryEntry {
+  std::int64_t id = 0;  ///< the particle's id (field `id`)
+  double value[3] = {0.0, 0.0, 0.0};
 };
 
 /// Per-tool contact statistics of the last pass (history.csv columns <tool>_...).
@@ -81,14 +93,32 @@ class PenaltyContact {
   /// The tools' shares of the friction heat of the last apply(), one record per contact with a
   /// tool that takes heat, in contact order (deterministic).
   const std::vector<ToolHeatRecord>& tool_heat() const { return tool_heat_; }
-  /// Memory held by the scratch arrays (bytes).
+  /// The friction memory of tool `tool` after the last apply(): one entry per particle touching it,
+  /// ascending ids; empty when its law keeps none. A particle not listed has none (eq. 18b: zero).
+  const std::vector<FrictionHistoryEntry>& friction_history(std::size_t tool) const { return history_[tool]; }
+  /// Particle `id`'s friction memory with tool `tool`, or null when it has none (not touching):
+  /// for the symmetry wrap, which transforms it as it transforms the vector fields (eq. 32).
+  FrictionHistoryEntry* friction_history_entry(std::size_t tool, std::int64_t id);
+  /// Number of tools whose friction memory friction_history() holds (those of configure()).
+  std::size_t history_tools() const { return history_.size(); }
+  /// Writes tool `tool`'s friction memory as 3 numbers per particle (0 where none) for the output
+  /// writers: particle i of `id` (n particles) into out[3 i .. 3 i + 2].
+  void friction_history_dense(std::size_t tool, const std::int64_t* id, std::size_t n, double* out) const;
+
+  /// Memory held by the friction memory (both copies, capacities), in bytes; part of bytes().
+  std::size_t history_bytes() const {
+    std::size_t total = history_next_.capacity() * sizeof(FrictionHistoryEntry);
+    for (const auto& h : history_) total += h.capacity() * sizeof(FrictionHistoryEntry);
+    return total;
+  }
+  /// Memory held by the scratch arrays and the friction memory (bytes).
   std::size_t bytes() const {
     std::size_t total = (near_x_.capacity() + near_distance_.capacity() + near_normal_.capacity()) * sizeof(double) +
-                        (slot_of_.capacity() + cell_of_.capacity() + cell_start_.capacity() +
-                         cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
+                        (own_slot_of_.capacity() + own_cell_of_.capacity() + cell_start_.capacity() +
+                         own_cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
                             sizeof(std::uint32_t) +
                         particle_.capacity() * sizeof(std::size_t) + cell_near_.capacity() +
-                        tool_heat_.capacity() * sizeof(ToolHeatRecord);
+                        tool_heat_.capacity() * sizeof(ToolHeatRecord) + history_bytes();
     for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vn_, &batch_damping_,
                           &batch_vt_, &batch_acc_, &batch_area_, &batch_yield_, &batch_history_, &batch_ft_,
                           &batch_stick_, &batch_vwall_})
@@ -103,17 +133,26 @@ class PenaltyContact {
   double sticking_fraction_ = 0.0;
   std::vector<ToolContactStats> stats_;
   std::vector<ToolHeatRecord> tool_heat_;
+  // Friction memory per tool, for the touching particles only, sorted by id (a scene pays for the
+  // contacts it has, not 24 bytes per particle and tool); history_next_ is the next pass's copy
+  // under construction, swapped in at the end of the pass (no allocation once warmed up).
+  std::vector<std::vector<FrictionHistoryEntry>> history_;
+  std::vector<FrictionHistoryEntry> history_next_;
   // Scratch, kept between steps so that the pass does not allocate once warmed up. Per particle
-  // only 4-byte indices (12 bytes in all); the distances and normals are held for the particles of
-  // the near cells only.
+  // only 4-byte indices (12 bytes in all: slot_of_, cell_of_, cell_particles_, in the borrowed
+  // storage when ContactArrays::borrow is large enough, else in the own_ arrays); the distances and
+  // normals are held for the particles of the near cells only.
   static constexpr std::uint32_t kFar = 0xffffffffu;  ///< slot_of_: not in a near cell
-  std::vector<std::uint32_t> slot_of_;  ///< each particle's place in near_particles_, or kFar
+  std::uint32_t* slot_of_ = nullptr;  ///< each particle's place in near_particles_, or kFar
+  std::uint32_t* cell_of_ = nullptr;  ///< each particle's culling cell
+  std::uint32_t* cell_particles_ = nullptr;  ///< the particles sorted by cell
+  std::vector<std::uint32_t> own_slot_of_, own_cell_of_, own_cell_particles_;
   std::vector<std::size_t> particle_;   ///< the touching particles, ascending (the law's batch)
   // Culling cells (edge 2 dx) over the particles, rebuilt at every pass.
   void bin_particles(const double* x, std::size_t n);
   double cell_edge_ = 0.0, grid_lo_[3] = {0, 0, 0};
   std::size_t grid_dims_[3] = {1, 1, 1};
-  std::vector<std::uint32_t> cell_of_, cell_start_, cell_particles_, cell_fill_;
+  std::vector<std::uint32_t> cell_start_, cell_fill_;
   std::vector<unsigned char> cell_near_;
   // Particles of the near cells (in cell order) and their batch query (positions, distances, normals).
   std::vector<std::uint32_t> near_particles_;

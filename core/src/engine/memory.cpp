@@ -35,7 +35,8 @@ std::vector<Simulation::MemoryItem> Simulation::memory_breakdown() const {
     items.push_back({std::string(prefix) + " build scratch", nl->build_scratch_bytes()});
     items.push_back({std::string(prefix) + " positions at build", nl->watch_bytes()});
   }
-  items.push_back({"contact scratch", contact_.bytes()});
+  items.push_back({"contact scratch", contact_.bytes() - contact_.history_bytes()});
+  items.push_back({"friction memory (touching particles only)", contact_.history_bytes()});
   items.push_back({"pass scratch (volume, correction, sigma C, artificial stress)", held(scratch_)});
   items.push_back({"yield stress scratch", held(yield_scratch_)});
   items.push_back({"bond failure scratch", held(bond_stress_) + held(ext_failed_)});

@@ -63,8 +63,9 @@ bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius,
   return moved != 0;
 }
 
-void NeighbourList::rebuild(const double* x, std::size_t n, double radius, double skin, std::size_t query) {
-  build(x, n, radius + skin, query);
+void NeighbourList::rebuild(const double* x, std::size_t n, double radius, double skin, std::size_t query,
+                            std::span<double> borrow) {
+  build(x, n, radius + skin, query, borrow);
   x_at_build_.assign(x, x + 3 * std::min(n, query));
   radius_at_build_ = radius + skin;
   ++builds_;
@@ -76,7 +77,8 @@ bool NeighbourList::update(const double* x, std::size_t n, double radius, double
   return true;
 }
 
-void NeighbourList::build(const double* x, std::size_t n, double radius, std::size_t query) {
+void NeighbourList::build(const double* x, std::size_t n, double radius, std::size_t query,
+                          std::span<double> borrow) {
   // Bit 31 of base_of_ marks a wide list, so indices must fit in 31 bits.
   if (n >= kWide) throw std::length_error("too many particles");
   const std::size_t nq = std::min(n, query);  // particles that get a list
@@ -129,10 +131,29 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
   }
   const std::size_t ncells = static_cast<std::size_t>(dims[0] * dims[1] * dims[2]);
 
-  cell_of_.resize(n);
   cell_start_.assign(ncells + 1, 0);
-  sorted_.resize(n);
-  sorted_x_.resize(3 * n);
+  // The per-point scratch (20 bytes per point): in the borrowed buffer when it is large enough
+  // (the pass scratch, idle while the lists are built, so the scene does not hold both), else in
+  // this object's own arrays. Only this function reads it; it is dead once the lists are built.
+  std::uint32_t* cell_of;
+  std::uint32_t* sorted;
+  float* sorted_x;
+  if (borrow.size() * sizeof(double) >= n * build_scratch_bytes_per_point()) {
+    std::vector<std::uint32_t>().swap(cell_of_);
+    std::vector<std::uint32_t>().swap(sorted_);
+    std::vector<float>().swap(sorted_x_);
+    auto* bytes = reinterpret_cast<unsigned char*>(borrow.data());
+    cell_of = reinterpret_cast<std::uint32_t*>(bytes);
+    sorted = reinterpret_cast<std::uint32_t*>(bytes + n * sizeof(std::uint32_t));
+    sorted_x = reinterpret_cast<float*>(bytes + 2 * n * sizeof(std::uint32_t));
+  } else {
+    cell_of_.resize(n);
+    sorted_.resize(n);
+    sorted_x_.resize(3 * n);
+    cell_of = cell_of_.data();
+    sorted = sorted_.data();
+    sorted_x = sorted_x_.data();
+  }
   auto cell_coord = [&](double v, int d) {
     return std::min<std::int64_t>(dims[d] - 1, static_cast<std::int64_t>((v - lo[d]) / edge[d]));
   };
@@ -140,22 +161,22 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
   for (std::size_t i = 0; i < n; ++i) {
     const std::int64_t cx = cell_coord(x[3 * i], 0), cy = cell_coord(x[3 * i + 1], 1),
                        cz = cell_coord(x[3 * i + 2], 2);
-    cell_of_[i] = static_cast<std::uint32_t>((cz * dims[1] + cy) * dims[0] + cx);
+    cell_of[i] = static_cast<std::uint32_t>((cz * dims[1] + cy) * dims[0] + cx);
   }
   // Counting sort of particles by cell (stable: ascending index within a cell), with their
   // positions copied next to each other so that a row of three cells is one contiguous run.
-  for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_of_[i] + 1];
+  for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_of[i] + 1];
   for (std::size_t c = 0; c < ncells; ++c) cell_start_[c + 1] += cell_start_[c];
   {
     std::vector<std::uint32_t>& fill = end_;  // used as the cursor array here, overwritten below
     fill.assign(cell_start_.begin(), cell_start_.end() - 1);
     fill.resize(std::max(n, ncells));
-    for (std::size_t i = 0; i < n; ++i) sorted_[fill[cell_of_[i]]++] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < n; ++i) sorted[fill[cell_of[i]]++] = static_cast<std::uint32_t>(i);
     end_.resize(nq);
   }
 #pragma omp parallel for schedule(static)
   for (std::size_t s = 0; s < n; ++s)
-    for (int d = 0; d < 3; ++d) sorted_x_[3 * s + d] = static_cast<float>(x[3 * sorted_[s] + d] - lo[d]);
+    for (int d = 0; d < 3; ++d) sorted_x[3 * s + d] = static_cast<float>(x[3 * sorted[s] + d] - lo[d]);
 
   // Single precision with a margin that keeps the lists a superset of the exact ones: rounding
   // the offsets from the grid origin errs by at most 2^-24 of the extent per coordinate.
@@ -176,7 +197,7 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
     const std::size_t first = c * kChunk, last = std::min(nq, first + kChunk);
     for (std::size_t i = first; i < last; ++i) {
       std::size_t found = 0;  // i's neighbours, first as full indices in cand
-      const std::uint32_t cell = cell_of_[i];
+      const std::uint32_t cell = cell_of[i];
       const std::int64_t cx = cell % dims[0], cy = (cell / dims[0]) % dims[1], cz = cell / (dims[0] * dims[1]);
       const float xi = static_cast<float>(x[3 * i] - lo[0]), yi = static_cast<float>(x[3 * i + 1] - lo[1]),
                   zi = static_cast<float>(x[3 * i + 2] - lo[2]);
@@ -188,10 +209,10 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
           const std::uint32_t s0 = cell_start_[row + x0], s1 = cell_start_[row + x1 + 1];
           if (found + (s1 - s0) > cand.size()) cand.resize(2 * (found + (s1 - s0)));
           std::uint32_t* dst = cand.data();
-          const float* p = sorted_x_.data();
+          const float* p = sorted_x;
           for (std::uint32_t s = s0; s < s1; ++s) {
             const float dx = xi - p[3 * s], dy = yi - p[3 * s + 1], dz = zi - p[3 * s + 2];
-            const std::uint32_t j = sorted_[s];
+            const std::uint32_t j = sorted[s];
             dst[found] = j;  // branch-free: kept only when close enough and not i itself
             found += (dx * dx + dy * dy + dz * dz < r2) & (j != i);
           }

@@ -19,6 +19,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace sphforge {
@@ -36,14 +37,23 @@ class NeighbourList {
   /// The rebuild of update(), unconditionally (counts as a build). With `query` < count, lists
   /// are built only for particles [0, query), whose neighbours may be any of the `count` points
   /// (symmetry ghosts [query, count): engine/symmetry.hpp); needs_rebuild() then watches [0, query).
-  void rebuild(const double* x, std::size_t count, double radius, double skin, std::size_t query = SIZE_MAX);
+  /// `borrow`: storage idle during the build (the caller's pass scratch) that the build may use for
+  /// its scratch (build_scratch_bytes_per_point() per point) instead of holding its own; its
+  /// contents are overwritten.
+  void rebuild(const double* x, std::size_t count, double radius, double skin, std::size_t query = SIZE_MAX,
+               std::span<double> borrow = {});
+  /// Bytes of build scratch per point (cell, sorted index, 3 single-precision coordinates).
+  static constexpr std::size_t build_scratch_bytes_per_point() {
+    return 2 * sizeof(std::uint32_t) + 3 * sizeof(float);
+  }
   long long builds() const { return builds_; }
 
   /// Builds lists of all j != i with |x_i - x_j| < radius (possibly a few more pairs closer than
   /// radius (1 + 1e-5) + 1e-6 * the cloud's extent: the search runs in single precision with that
   /// margin, so the lists are always a superset). x: 3 doubles per particle.
   /// Allocation-free once the arrays have grown to their working size.
-  void build(const double* x, std::size_t count, double radius, std::size_t query = SIZE_MAX);
+  void build(const double* x, std::size_t count, double radius, std::size_t query = SIZE_MAX,
+             std::span<double> borrow = {});
 
   std::size_t count() const { return end_.size(); }
 
@@ -112,7 +122,8 @@ class NeighbourList {
   std::vector<std::uint32_t> chunk_pairs_;          // neighbours listed in each chunk
   std::vector<const std::uint16_t*> chunk_data_;    // chunks_[c].data()
   std::vector<std::vector<std::uint32_t>> candidates_;  // per thread: one particle's list before encoding
-  // Cell list scratch.
+  // Cell list scratch. The per-point arrays live in a borrowed buffer when build() is given one
+  // large enough (then these three stay empty), else here.
   std::vector<std::uint32_t> cell_of_;     // cell index of each particle
   std::vector<std::uint32_t> cell_start_;  // first slot of each cell in sorted_
   std::vector<std::uint32_t> sorted_;      // particle indices sorted by cell

@@ -566,13 +566,10 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     if (settings_.artificial_stress.epsilon > 0.0)
       passes_.push_back({"artificial_stress", {pressure, stress, density}, {}});
     passes_.push_back({"momentum", {position, velocity, mass, density, pressure, stress}, {acceleration}});
-    // The friction laws that remember (the tangential spring of `coulomb`) keep it per particle,
-    // so that it follows the particle through reordering (eq. 18b).
-    std::vector<FieldInfo> contact_writes = {contact_force};
-    for (std::size_t t = 0; t < tools_.size(); ++t)
-      if (tool_laws[t]->needs_history())
-        contact_writes.push_back(FieldInfo{"friction_history_" + tools_[t].name(), 3, "N"});
-    if (!tools_.empty()) passes_.push_back({"contact", {position, velocity, mass, acceleration}, contact_writes});
+    // The friction laws that remember (the tangential spring of `coulomb`, eq. 18b) have it kept by
+    // the contact pass for the touching particles only, keyed by the particle id (not a field: a
+    // few per cent of the particles touch a tool; written to the outputs as friction_history_<tool>).
+    if (!tools_.empty()) passes_.push_back({"contact", {position, velocity, mass, acceleration, id}, {contact_force}});
     if (settings_.xsph > 0.0) passes_.push_back({"xsph", {position, velocity, mass, density}, {}});
     passes_.push_back({"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}});
   }
@@ -818,9 +815,31 @@ void Simulation::mechanics_rates() {
 
   const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
   const bool sym = symmetry_.active();
+  // Per-step scratch: volume (1), correction C (6), A = sigma C (9), and for the artificial stress
+  // R (6) per particle (nt: ghosts included). R is computed in place from sigma/rho^2 (eq. 9 reads
+  // a particle's six values before it writes them), so that input needs no array of its own.
+  // C and R share one array: C is last read when A = sigma C is formed (eq. 3b), before R is first
+  // written (eq. 9), and neither is read by the other's passes.
+  const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
+  const bool corrected = settings_.gradient_correction;
+  // The second-order correction (theory section 18) adds B and A2 = sigma B, 27 each per particle.
+  const bool second = settings_.second_order_gradient;
+  const std::size_t shared_c_r = corrected || with_artificial_stress ? 6 : 0;
+  const std::size_t scratch_per_particle = 1 + shared_c_r + 9 + (second ? 54 : 0);
   if (neighbours_.needs_rebuild(x, n, search, skin)) {
     // Symmetry: particles that crossed a cut re-enter through its image (eq. 32).
-    if (sym) symmetry_.wrap(fields_, n);
+    if (sym && symmetry_.wrap(fields_, n, wrap_moves_) > 0) {
+      // The friction memory is a vector, like the fields the wrap transformed (Q v, eq. 32); it is
+      // kept by the contact pass by particle id (eq. 18b), so it is transformed here, the same way.
+      const std::int64_t* ids = fields_.i64(field::id);
+      for (std::size_t t = 0; t < contact_.history_tools(); ++t)
+        for (const auto& [i, k] : wrap_moves_)
+          if (FrictionHistoryEntry* e = contact_.friction_history_entry(t, ids[i])) {
+            double rotated[3];
+            Symmetry::transform_vector(symmetry_.images()[k].Q, e->value, rotated);
+            for (int d = 0; d < 3; ++d) e->value[d] = rotated[d];
+          }
+    }
     // Memory locality: every few rebuilds, first sort the particles by cell (Morton order within
     // each body; every registered field moves, and nothing else indexed by particle outlives a step).
     if (neighbours_.builds() % kReorderEveryBuilds == 0 && reorder_by_cell(fields_, bodies_, search + skin))
@@ -829,10 +848,16 @@ void Simulation::mechanics_rates() {
       // Ghosts: the images within support + skin of the region (eq. 31); lists for the real
       // particles only, over real and ghost particles alike.
       symmetry_.select(x, n, search + skin);
-      neighbours_.rebuild(extend(ext_x_, x, 3, true), n + symmetry_.ghost_count(), search, skin, n);
-    } else {
-      neighbours_.rebuild(x, n, search, skin);
     }
+    // The pass scratch is idle during the build (it is filled below, after it): sized now for this
+    // step's particles and ghosts, it lends the build its 20 bytes per point (theory section 7),
+    // so that the scene does not hold both (the build needs 2.5 doubles per point, the scratch has >= 10).
+    const std::size_t points = sym ? n + symmetry_.ghost_count() : n;
+    scratch_.resize(scratch_per_particle * points);
+    if (sym)
+      neighbours_.rebuild(extend(ext_x_, x, 3, true), points, search, skin, n, scratch_);
+    else
+      neighbours_.rebuild(x, n, search, skin, SIZE_MAX, scratch_);
   }
   // With symmetry the pair passes read extended arrays [real | ghosts] of size nt = n + g; the
   // ghosts' values are refreshed from their sources right before the pass that reads them.
@@ -840,19 +865,12 @@ void Simulation::mechanics_rates() {
   const double* xe = sym ? extend(ext_x_, x, 3, true) : x;
   const double* ve = sym ? extend(ext_v_, v, 3) : v;
   const double* me = sym ? extend(ext_m_, m, 1) : m;
-  // Per-step scratch: volume (1), correction C (6), A = sigma C (9), and for the artificial stress
-  // R (6) per particle (nt: ghosts included). R is computed in place from sigma/rho^2 (eq. 9 reads
-  // a particle's six values before it writes them), so that input needs no array of its own.
-  const bool with_artificial_stress = settings_.artificial_stress.epsilon > 0.0;
-  const bool corrected = settings_.gradient_correction;
-  // The second-order correction (theory section 18) adds B and A2 = sigma B, 27 each per particle.
-  const bool second = settings_.second_order_gradient;
-  scratch_.resize((1 + (corrected ? 6 : 0) + 9 + (with_artificial_stress ? 6 : 0) + (second ? 54 : 0)) * nt);
+  scratch_.resize(scratch_per_particle * nt);
   double* volume = scratch_.data();
   double* correction = corrected ? volume + nt : nullptr;
-  double* stress_c = volume + (corrected ? 7 : 1) * nt;
-  double* artificial = with_artificial_stress ? stress_c + 9 * nt : nullptr;
-  double* second_b = second ? stress_c + (9 + (with_artificial_stress ? 6 : 0)) * nt : nullptr;
+  double* artificial = with_artificial_stress ? volume + nt : nullptr;  // C's storage, once C is dead
+  double* stress_c = volume + (1 + shared_c_r) * nt;
+  double* second_b = second ? stress_c + 9 * nt : nullptr;
   double* stress_b = second ? second_b + 27 * nt : nullptr;
   // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
   particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
@@ -958,9 +976,10 @@ void Simulation::mechanics_rates() {
     ca.heat_source = heat_source;
     ca.mass_scaling = settings_.mass_scaling;
     ca.tool_takes_heat = any_attached_ ? tool_takes_heat_.data() : nullptr;
-    ca.history.assign(tools_.size(), nullptr);
-    for (std::size_t t = 0; t < tools_.size(); ++t)
-      if (tool_laws_[t]->needs_history()) ca.history[t] = fields_.f64("friction_history_" + tools_[t].name());
+    ca.id = fields_.i64(field::id);
+    // The pass scratch is dead after the momentum pass (until the next step's build): it lends the
+    // contact pass the room for its 12 bytes of indices per particle.
+    ca.borrow = scratch_;
     contacts_ = contact_.apply(tools_, ca);
     contact_time_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - contact_start).count();
   }
@@ -1320,10 +1339,23 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   io::HistoryWriter history(out_dir / "history.csv", history_header());
   Progress progress(progress_mode, settings_.end_time_s);
 
+  // The friction laws' memory, kept by the contact pass for the touching particles only, is
+  // written like a field (friction_history_<tool>, 3 per particle, zero where none; eq. 18b).
+  auto friction_histories = [&] {
+    std::vector<io::ParticleArray> out;
+    for (std::size_t t = 0; t < tools_.size(); ++t) {
+      if (!tool_laws_[t]->needs_history()) continue;
+      io::ParticleArray a{"friction_history_" + tools_[t].name(), 3, "N", std::vector<double>(3 * count_)};
+      if (t < contact_.history_tools())
+        contact_.friction_history_dense(t, fields_.i64(field::id), count_, a.values.data());
+      out.push_back(std::move(a));
+    }
+    return out;
+  };
   int frame = 0;
   double last_frame_time = -1.0, last_history_time = -1.0;
   auto write_frame = [&] {
-    particle_writer.write(frame, time_, fields_, count_);
+    particle_writer.write(frame, time_, fields_, count_, friction_histories());
     tool_writer.write(frame, time_, tools_);
     last_frame_time = time_;
     ++frame;
@@ -1376,7 +1408,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     try { write_frame(); } catch (...) {}
     // Full-precision state of every field for diagnosis (h5dump / h5py).
     try {
-      io::write_particle_dump(out_dir / "instability_dump.h5", fields_, count_, time_, step_);
+      io::write_particle_dump(out_dir / "instability_dump.h5", fields_, count_, time_, step_, friction_histories());
       result.message += "; state dumped to instability_dump.h5";
     } catch (const std::exception&) {
     }

@@ -159,6 +159,7 @@ class Simulation {
   // Thermal scratch (thermal scenes only): properties, heat flow (W) and surface area (m^2).
   std::vector<double> conductivity_, specific_heat_, heat_W_, area_, thermal_volume_, physical_density_;
   std::vector<double> xsph_scratch_;
+  std::vector<std::pair<std::size_t, std::size_t>> wrap_moves_;  ///< particles the symmetry wrap moved, and their image
   double internal_energy_ = 0.0, dt_thermal_ = 0.0;
   bool any_convection_ = false;
   // Thermal-only bodies attached to tools (eqs. 90-91): whether any is, which tools take their

@@ -125,9 +125,20 @@ void Symmetry::transform_tensor(const Mat& Q, const double* in, double* out) {
 }
 
 std::size_t Symmetry::wrap(FieldRegistry& fields, std::size_t first, std::size_t last) const {
+  std::vector<std::pair<std::size_t, std::size_t>> moves;  // particle, image
+  return wrap_range(fields, first, last, moves);
+}
+
+std::size_t Symmetry::wrap(FieldRegistry& fields, std::size_t n,
+                           std::vector<std::pair<std::size_t, std::size_t>>& moves) const {
+  return wrap_range(fields, 0, n, moves);
+}
+
+std::size_t Symmetry::wrap_range(FieldRegistry& fields, std::size_t first, std::size_t last,
+                                 std::vector<std::pair<std::size_t, std::size_t>>& moves) const {
+  moves.clear();
   if (!active()) return 0;
   double* x = fields.f64(field::position);
-  std::vector<std::pair<std::size_t, std::size_t>> moves;  // particle, image
   for (std::size_t i = first; i < last; ++i) {
     const Vec xi(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
     if (inside(xi)) continue;

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -61,6 +62,9 @@ class Symmetry {
   std::size_t wrap(FieldRegistry& fields, std::size_t n) const { return wrap(fields, 0, n); }
   /// The same for the particles [first, last) (e.g. a tool-attached thermal body, every step).
   std::size_t wrap(FieldRegistry& fields, std::size_t first, std::size_t last) const;
+  /// wrap(fields, n), and the moves made: (particle, index into images()) for each particle moved,
+  /// for per-particle state kept outside the registry (the contact pass's friction memory).
+  std::size_t wrap(FieldRegistry& fields, std::size_t n, std::vector<std::pair<std::size_t, std::size_t>>& moves) const;
 
   /// Chooses the ghosts: every image of a real particle closer than `range` (kernel support +
   /// skin) to the region, except images that coincide with their source (a particle on a cut).
@@ -83,6 +87,8 @@ class Symmetry {
   static void transform_tensor(const Eigen::Matrix3d& Q, const double* in, double* out);
 
  private:
+  std::size_t wrap_range(FieldRegistry& fields, std::size_t first, std::size_t last,
+                         std::vector<std::pair<std::size_t, std::size_t>>& moves) const;
   SymmetrySettings settings_;
   int sectors_ = 1;  ///< N
   std::vector<SymmetryImage> images_;

@@ -177,7 +177,7 @@ ParticleSeriesWriter::ParticleSeriesWriter(fs::path directory) : directory_(std:
 }
 
 void ParticleSeriesWriter::write(int frame, double time_s, const FieldRegistry& fields,
-                                 std::size_t count) {
+                                 std::size_t count, const std::vector<ParticleArray>& extra) {
   if (count > fields.size())
     throw std::logic_error("ParticleSeriesWriter: " + std::to_string(count) +
                            " particles requested, registry holds " +
@@ -214,6 +214,15 @@ void ParticleSeriesWriter::write(int frame, double time_s, const FieldRegistry& 
     name_components(a, info.components);
     pd->AddArray(a);
     units->InsertNextValue(name + "=" + info.unit);
+  }
+  for (const ParticleArray& e : extra) {
+    if (e.values.size() != count * static_cast<std::size_t>(e.components))
+      throw std::logic_error("ParticleSeriesWriter: array '" + e.name + "' does not hold " +
+                             std::to_string(count) + " particles");
+    vtkSmartPointer<vtkDataArray> a = wrap(e.values.data(), count, e.components, e.name);
+    name_components(a, e.components);
+    pd->AddArray(a);
+    units->InsertNextValue(e.name + "=" + e.unit);
   }
   grid->GetFieldData()->AddArray(units);
   add_time(grid->GetFieldData(), time_s);

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/particle_array.hpp"
 #include "sphforge/fields.hpp"
 #include "sphforge/tool.hpp"
 
@@ -31,7 +32,9 @@ class ParticleSeriesWriter {
   explicit ParticleSeriesWriter(std::filesystem::path directory);
   /// Writes frame number `frame` at simulated time `time_s` for particles [0, count).
   /// Writing a frame number again replaces that frame (file and .pvd entry).
-  void write(int frame, double time_s, const FieldRegistry& fields, std::size_t count);
+  /// `extra`: arrays held outside the registry, written after the fields (`count` particles each).
+  void write(int frame, double time_s, const FieldRegistry& fields, std::size_t count,
+             const std::vector<ParticleArray>& extra = {});
 
  private:
   std::filesystem::path directory_;

@@ -39,7 +39,7 @@ void string_attribute(hid_t object, const char* name, const std::string& value) 
 }  // namespace
 
 void write_particle_dump(const std::filesystem::path& file, const FieldRegistry& fields, std::size_t count,
-                         double time_s, long long step) {
+                         double time_s, long long step, const std::vector<ParticleArray>& extra) {
   Handle f{check(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "create " + file.string()),
            H5Fclose};
   attribute(f.id, "time_s", H5T_NATIVE_DOUBLE, &time_s);
@@ -62,6 +62,20 @@ void write_particle_dump(const std::filesystem::path& file, const FieldRegistry&
     if (count > 0 && H5Dwrite(data.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values) < 0)
       throw std::runtime_error("HDF5: cannot write dataset " + name);
     string_attribute(data.id, "unit", info.unit);
+  }
+  for (const ParticleArray& e : extra) {
+    if (e.values.size() != count * static_cast<std::size_t>(e.components))
+      throw std::logic_error("write_particle_dump: array '" + e.name + "' does not hold " + std::to_string(count) +
+                             " particles");
+    const hsize_t dims[2] = {count, static_cast<hsize_t>(e.components)};
+    Handle space{check(H5Screate_simple(2, dims, nullptr), "create a data space"), H5Sclose};
+    Handle data{check(H5Dcreate2(group.id, e.name.c_str(), H5T_NATIVE_DOUBLE, space.id, H5P_DEFAULT, H5P_DEFAULT,
+                                 H5P_DEFAULT),
+                      "create dataset " + e.name),
+                H5Dclose};
+    if (count > 0 && H5Dwrite(data.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, e.values.data()) < 0)
+      throw std::runtime_error("HDF5: cannot write dataset " + e.name);
+    string_attribute(data.id, "unit", e.unit);
   }
 }
 
