@@ -30,8 +30,9 @@ struct ContactBatch {
   const double* contact_area = nullptr;     ///< m^2, particle's share of the surface (dx^2)
   const double* yield_stress = nullptr;     ///< Pa, from the material (infinity if none)
   /// 3 per contact, IN/OUT: the law's per-contact memory (e.g. the tangential spring force of
-  /// `coulomb`, N). Kept by the core in the particle field friction_history_<tool>, so it
-  /// survives reordering; zeroed when a particle leaves the contact. Null unless needs_history().
+  /// `coulomb`, N). Kept by the core per touching particle, by id, so it survives reordering
+  /// (theory section 6); zero for a particle that was not touching at the last pass, forgotten when it
+  /// leaves the contact; written to the outputs as friction_history_<tool>. Null unless needs_history().
   double* history = nullptr;
   double* tangential_force = nullptr;       ///< 3 per contact, OUT: force on the particle (N)
   /// OUT: 0 when the contact slides; 1 when it sticks (its friction heat |f_t| |v_t|, eq. 18e, is the
