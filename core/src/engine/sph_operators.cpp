@@ -237,9 +237,12 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
       } else {
         f = std::pow(fw, g.exponent);
       }
-      const double* Rj = R + 6 * j;
-      const double q = (Ri[0] + Rj[0]) * x0 * x0 + (Ri[1] + Rj[1]) * x1 * x1 + (Ri[2] + Rj[2]) * x2 * x2 +
-                       2.0 * ((Ri[3] + Rj[3]) * x0 * x1 + (Ri[4] + Rj[4]) * x1 * x2 + (Ri[5] + Rj[5]) * x0 * x2);
+      // R_j is indexed as R[6 j + c], not through a pointer R + 6 j: GCC 12 turns only the former into
+      // gathers, and with the pointer it left this whole loop scalar (docs/bench.md "Throughput").
+      const double q = (Ri[0] + R[6 * j]) * x0 * x0 + (Ri[1] + R[6 * j + 1]) * x1 * x1 +
+                       (Ri[2] + R[6 * j + 2]) * x2 * x2 +
+                       2.0 * ((Ri[3] + R[6 * j + 3]) * x0 * x1 + (Ri[4] + R[6 * j + 4]) * x1 * x2 +
+                              (Ri[5] + R[6 * j + 5]) * x0 * x2);
       // r2 > 0 for distinct particles; the floor only keeps coincident ones (f = 1, gw = 0) finite.
       s = f * q / std::max(r2, 1e-300);
       if constexpr (Failure) s *= keep;  // nor the artificial stress (eq. 114)
@@ -397,9 +400,20 @@ void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const A
 }
 
 void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R, std::size_t n) {
-#pragma omp parallel for schedule(static)
+  // Dynamic chunks: the particles under tension, which cost an eigen-decomposition, cluster in space.
+#pragma omp parallel for schedule(dynamic, 1024)
   for (std::size_t i = 0; i < n; ++i) {
     const double* t = sigma_over_rho2 + 6 * i;
+    double* out = R + 6 * i;
+    // Gershgorin: every eigenvalue lies below max_a (t_aa + sum_b!=a |t_ab|). Where that bound is
+    // <= 0 (the particle is under no principal tension, the common case in forming), R is 0
+    // (eq. 9) and the eigen-decomposition is skipped: the same zeros it would give.
+    const double bound = std::max({t[0] + std::abs(t[3]) + std::abs(t[5]), t[1] + std::abs(t[3]) + std::abs(t[4]),
+                                   t[2] + std::abs(t[4]) + std::abs(t[5])});
+    if (bound <= 0.0) {
+      for (int c = 0; c < 6; ++c) out[c] = 0.0;
+      continue;
+    }
     Eigen::Matrix3d sigma;
     sigma << t[0], t[3], t[5], t[3], t[1], t[4], t[5], t[4], t[2];
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
@@ -408,7 +422,6 @@ void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R,
     Eigen::Vector3d r_principal;
     for (int k = 0; k < 3; ++k) r_principal[k] = principal[k] > 0.0 ? -epsilon * principal[k] : 0.0;
     const Eigen::Matrix3d r = eig.eigenvectors() * r_principal.asDiagonal() * eig.eigenvectors().transpose();
-    double* out = R + 6 * i;
     out[0] = r(0, 0);
     out[1] = r(1, 1);
     out[2] = r(2, 2);
