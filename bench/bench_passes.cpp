@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "engine/heat_conduction.hpp"
 #include "engine/neighbours.hpp"
 #include "engine/second_order_gradient.hpp"
 #include "engine/sph_operators.hpp"
@@ -87,6 +88,29 @@ void BM_MomentumWithArtificialStress(benchmark::State& state) {
   for (auto _ : state)
     momentum_rate(b.nl, KernelKind::CubicSpline, b.h, ArtificialViscosity{}, 50.0, b.x.data(), b.v.data(),
                   b.m.data(), b.rho.data(), b.volume.data(), b.stress_c.data(), as, b.R.data(), b.a.data(), b.n);
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
+}
+
+// Heat conduction (eqs. 20-21) and the free-surface area of convection (eq. 22) on the same block:
+// a temperature gradient along x and two conductivities in a checkerboard of slabs, so that the
+// harmonic mean sees unequal pairs.
+void BM_HeatConduction(benchmark::State& state) {
+  Block& b = block(static_cast<int>(state.range(0)));
+  std::vector<double> T(b.n), k(b.n), heat(b.n, 0.0);
+  for (std::size_t i = 0; i < b.n; ++i) {
+    T[i] = 300.0 + 1e4 * b.x[3 * i];
+    k[i] = (static_cast<int>(b.x[3 * i + 2] / (4 * b.dx)) % 2) ? 150.0 : 20.0;
+  }
+  for (auto _ : state)
+    heat_conduction(b.nl, KernelKind::CubicSpline, b.h, b.x.data(), b.volume.data(), T.data(), k.data(), heat.data(),
+                    b.n);
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
+}
+
+void BM_SurfaceArea(benchmark::State& state) {
+  Block& b = block(static_cast<int>(state.range(0)));
+  std::vector<double> area(b.n);
+  for (auto _ : state) surface_area(b.nl, KernelKind::CubicSpline, b.h, b.x.data(), b.volume.data(), area.data(), b.n);
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(b.n));
 }
 
@@ -289,6 +313,8 @@ BENCHMARK(BM_MomentumWithArtificialStressWithFailure)->Arg(46)->Unit(benchmark::
 BENCHMARK(BM_SecondOrderCorrection)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SecondOrderVelocityGradient)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SecondOrderMomentumTerm)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HeatConduction)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SurfaceArea)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_JaumannRotation)->Arg(46)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -10,6 +10,17 @@
 namespace sphforge {
 
 #define SPHFORGE_PAIR_INLINE __attribute__((always_inline)) inline
+// The AVX2 + FMA instances of the pair loops (engine/sph_operators.cpp explains the scheme).
+#if defined(__GNUC__) && defined(__x86_64__)
+#define SPHFORGE_TARGET_AVX2 __attribute__((target("avx2,fma")))
+#else
+#define SPHFORGE_TARGET_AVX2
+#endif
+
+/// True when the pair loops run their AVX2 + FMA instances: the CPU has them and
+/// allow_avx2_pair_loops() (engine/sph_operators.hpp) has not turned them off.
+bool pair_loops_use_avx2();
+
 // Kernel gradient factor F = (dW/dr)/r and value W of one pair from r^2 (theory eqs. 1-2), without
 // branches: the pair loops then run straight through (which of the kernel's pieces a pair falls
 // in is unpredictable, and the lists include the Verlet skin, where both are 0). Same formulas

@@ -17,20 +17,11 @@ constexpr int kSym[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
 
 // Each pair pass is a per-particle function (always inlined) and two drivers running it over all
 // particles: a generic one and, on x86-64 CPUs that have them, one compiled for AVX2 + FMA, chosen
-// at run time. The neighbour loops are written for `omp simd` (scalar accumulators, no branches),
-// so that with AVX2 they run four pairs per instruction; the summation order is then fixed by the
-// build and the CPU, never by the number of threads.
+// at run time (pair_loops_use_avx2(), engine/pair_kernel.hpp). The neighbour loops are written for
+// `omp simd` (scalar accumulators, no branches), so that with AVX2 they run four pairs per
+// instruction; the summation order is then fixed by the build and the CPU, never by the number of
+// threads.
 std::atomic<bool> g_allow_avx2{true};
-#if defined(__GNUC__) && defined(__x86_64__)
-#define SPHFORGE_TARGET_AVX2 __attribute__((target("avx2,fma")))
-bool cpu_has_avx2_fma() {
-  static const bool yes = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return yes && g_allow_avx2.load(std::memory_order_relaxed);
-}
-#else
-#define SPHFORGE_TARGET_AVX2
-bool cpu_has_avx2_fma() { return false; }
-#endif
 #define SPHFORGE_ALWAYS_INLINE __attribute__((always_inline)) inline
 
 
@@ -146,7 +137,7 @@ SPHFORGE_TARGET_AVX2 void velocity_gradient_avx2(const GradientArgs& g, double h
 
 template <KernelKind K, bool Corrected, bool Failure>
 void velocity_gradient_run(const GradientArgs& g, double h) {
-  if (cpu_has_avx2_fma()) velocity_gradient_avx2<K, Corrected, Failure>(g, h);
+  if (pair_loops_use_avx2()) velocity_gradient_avx2<K, Corrected, Failure>(g, h);
   else velocity_gradient_generic<K, Corrected, Failure>(g, h);
 }
 
@@ -281,7 +272,7 @@ SPHFORGE_TARGET_AVX2 void momentum_avx2(const MomentumArgs& g) {
 
 template <KernelKind K, int Exponent, bool Failure>
 void momentum_rate_run(const MomentumArgs& g) {
-  if (cpu_has_avx2_fma()) momentum_avx2<K, Exponent, Failure>(g);
+  if (pair_loops_use_avx2()) momentum_avx2<K, Exponent, Failure>(g);
   else momentum_generic<K, Exponent, Failure>(g);
 }
 
@@ -293,6 +284,15 @@ void momentum_rate_impl(const MomentumArgs& g) {
 }  // namespace
 
 bool allow_avx2_pair_loops(bool allow) { return g_allow_avx2.exchange(allow); }
+
+bool pair_loops_use_avx2() {
+#if defined(__GNUC__) && defined(__x86_64__)
+  static const bool cpu_has_them = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return cpu_has_them && g_allow_avx2.load(std::memory_order_relaxed);
+#else
+  return false;
+#endif
+}
 
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
                        const double* volume, bool corrected, double* L, double* condition, double* correction,
