@@ -50,7 +50,7 @@ std::size_t NeighbourList::bytes() const {
 }
 
 bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius, double skin) const {
-  if (skin <= 0.0 || n != count() || radius + skin != radius_at_build_) return true;
+  if (stale_ || skin <= 0.0 || n != count() || radius + skin != radius_at_build_) return true;
   const double limit2 = 0.25 * skin * skin;
   int moved = 0;
 #pragma omp parallel for reduction(max : moved) schedule(static)
@@ -68,7 +68,14 @@ void NeighbourList::rebuild(const double* x, std::size_t n, double radius, doubl
   build(x, n, radius + skin, query, borrow);
   x_at_build_.assign(x, x + 3 * std::min(n, query));
   radius_at_build_ = radius + skin;
+  stale_ = false;
   ++builds_;
+}
+
+void NeighbourList::build_transient(const double* x, std::size_t n, double radius, double skin, std::size_t query,
+                                    std::span<double> borrow) {
+  build(x, n, radius + skin, query, borrow);
+  stale_ = true;  // the watch positions stay those of the last counted build
 }
 
 bool NeighbourList::update(const double* x, std::size_t n, double radius, double skin) {

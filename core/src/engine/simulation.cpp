@@ -798,6 +798,102 @@ ProcessContext Simulation::context() {
 }
 
 // --- one step ---------------------------------------------------------------------------------------
+// Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge the
+// bonds from the flags and the stresses of the step's start, copied here, so that they leave out the
+// same pairs (the material sets new flags between the two passes).
+BondFailure Simulation::bond_failure_inputs(std::size_t n) {
+  BondFailure failure;
+  if (const double* failed = fields_.f64_if(field::failed)) {
+    const bool sym = symmetry_.active();
+    const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
+    bond_stress_.resize(6 * nt);
+    cauchy_stress(fields_.f64(field::pressure), fields_.f64(field::deviatoric_stress), bond_stress_.data(), n);
+    if (sym) {
+      symmetry_.fill_symmetric(bond_stress_.data(), n);
+      extend(ext_failed_, failed, 1);
+    } else {
+      ext_failed_.assign(failed, failed + n);
+    }
+    failure = {ext_failed_.data(), bond_stress_.data()};
+  }
+  return failure;
+}
+
+// The velocity gradient L (eqs. 3-3b, or eqs. 130-134 with the second-order correction) at x, v
+// (extended with the ghosts) into L, with the gradient condition where it is a field.
+void Simulation::velocity_gradient_pass(const double* xe, const double* ve, const double* volume, double* correction,
+                                        double* second_b, double* L, std::size_t n, const BondFailure& failure) {
+  if (settings_.second_order_gradient) {
+    // Quadratic-consistent gradient (eqs. 130-134); symmetry and bond failure are refused at setup.
+    second_order_correction(neighbours_, settings_.kernel, h_, xe, volume, second_b, correction,
+                            fields_.f64_if(field::gradient_condition), n);
+    second_order_velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, second_b, correction, L, n);
+  } else {
+    velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, settings_.gradient_correction, L,
+                      fields_.f64_if(field::gradient_condition), correction, n, failure);
+  }
+}
+
+// Doubles per particle (and ghost) of the pass scratch: volume (1), C or R (6, one array), A = sigma C
+// (9, unless it is kept in the velocity gradient's storage), and B, A2 = sigma B (54) with the
+// second-order gradient. At least 3, so that the neighbour build (2.5 doubles per point) and the
+// contact pass (1.5) can still borrow it (theory section 7).
+std::size_t Simulation::pass_scratch_per_particle(bool stress_c_in_l) const {
+  const bool c_or_r = settings_.gradient_correction || settings_.artificial_stress.epsilon > 0.0;
+  const std::size_t doubles =
+      1 + (c_or_r ? 6 : 0) + (stress_c_in_l ? 0 : 9) + (settings_.second_order_gradient ? 54 : 0);
+  return std::max<std::size_t>(doubles, 3);
+}
+
+// The velocity gradient of an output frame. The step overwrites L with A = sigma C once L is dead for
+// the arithmetic (mechanics_rates), so a frame recomputes L, its gradient condition and the density
+// rate (eq. 4) from the positions, velocities, masses and densities the frame shows, with the same
+// passes the step uses. The lists are the step's when still valid for these positions (Verlet skin);
+// otherwise a transient build for this evaluation leaves them stale, so that the next step rebuilds
+// where it would have anyway: the dynamics do not see this evaluation.
+void Simulation::output_velocity_gradient() {
+  const std::size_t n = mechanical_count_;
+  if (n == 0) return;
+  const double* x = fields_.f64(field::position);
+  const double* v = fields_.f64(field::velocity);
+  const double* m = fields_.f64(field::mass);
+  const double* rho = fields_.f64(field::density);
+  double* L = fields_.f64(field::velocity_gradient);
+  double* drho = fields_.f64(field::density_rate);
+  // A state that blew up (the instability frame) has no gradient; a build from non-finite positions
+  // would not end well.
+  bool finite = true;
+  for (std::size_t i = 0; i < n && finite; ++i) finite = finite3(x + 3 * i);
+  if (!finite) {
+    std::fill(L, L + 9 * n, std::numeric_limits<double>::quiet_NaN());
+    std::fill(drho, drho + n, std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  const bool sym = symmetry_.active();
+  const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
+  const std::size_t per = pass_scratch_per_particle(!sym);
+  if (neighbours_.needs_rebuild(x, n, search, skin)) {
+    if (sym) symmetry_.select(x, n, search + skin);
+    const std::size_t points = sym ? n + symmetry_.ghost_count() : n;
+    scratch_.resize(per * points);
+    if (sym)
+      neighbours_.build_transient(extend(ext_x_, x, 3, true), points, search, skin, n, scratch_);
+    else
+      neighbours_.build_transient(x, n, search, skin, SIZE_MAX, scratch_);
+  }
+  const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
+  const double* xe = sym ? extend(ext_x_, x, 3, true) : x;
+  const double* ve = sym ? extend(ext_v_, v, 3) : v;
+  const double* me = sym ? extend(ext_m_, m, 1) : m;
+  scratch_.resize(per * nt);
+  double* volume = scratch_.data();
+  double* correction = settings_.gradient_correction ? volume + nt : nullptr;
+  double* second_b = settings_.second_order_gradient ? volume + (per - 54) * nt : nullptr;
+  particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
+  velocity_gradient_pass(xe, ve, volume, correction, second_b, L, n, bond_failure_inputs(n));
+  continuity_density_rate(L, rho, drho, n);
+}
+
 void Simulation::mechanics_rates() {
   const std::size_t n = mechanical_count_;
   double* x = fields_.f64(field::position);
@@ -825,7 +921,13 @@ void Simulation::mechanics_rates() {
   // The second-order correction (theory section 18) adds B and A2 = sigma B, 27 each per particle.
   const bool second = settings_.second_order_gradient;
   const std::size_t shared_c_r = corrected || with_artificial_stress ? 6 : 0;
-  const std::size_t scratch_per_particle = 1 + shared_c_r + 9 + (second ? 54 : 0);
+  // A = sigma C (9 per particle) goes into the velocity gradient's storage: L is last read by the
+  // material update (eq. 15) and the Jaumann rotation (eq. 13), before A is formed (eq. 3b), and
+  // nothing in the step reads L after that; an output frame recomputes L from the state it shows
+  // (output_velocity_gradient()). With symmetry A is needed for the ghosts too (n + g particles),
+  // more than the field holds, so it stays in the pass scratch.
+  const bool stress_c_in_l = !sym;
+  const std::size_t scratch_per_particle = pass_scratch_per_particle(stress_c_in_l);
   if (neighbours_.needs_rebuild(x, n, search, skin)) {
     // Symmetry: particles that crossed a cut re-enter through its image (eq. 32).
     if (sym && symmetry_.wrap(fields_, n, wrap_moves_) > 0) {
@@ -869,35 +971,13 @@ void Simulation::mechanics_rates() {
   double* volume = scratch_.data();
   double* correction = corrected ? volume + nt : nullptr;
   double* artificial = with_artificial_stress ? volume + nt : nullptr;  // C's storage, once C is dead
-  double* stress_c = volume + (1 + shared_c_r) * nt;
-  double* second_b = second ? stress_c + 9 * nt : nullptr;
+  double* stress_c = stress_c_in_l ? L : volume + (1 + shared_c_r) * nt;
+  double* second_b = second ? volume + (1 + shared_c_r + (stress_c_in_l ? 0 : 9)) * nt : nullptr;
   double* stress_b = second ? second_b + 27 * nt : nullptr;
   // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
   particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
-  // Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge the
-  // bonds from the flags and the stresses of the step's start, copied here, so that they leave out the
-  // same pairs (the material sets new flags between the two passes).
-  BondFailure failure;
-  if (const double* failed = fields_.f64_if(field::failed)) {
-    bond_stress_.resize(6 * nt);
-    cauchy_stress(p, S, bond_stress_.data(), n);
-    if (sym) {
-      symmetry_.fill_symmetric(bond_stress_.data(), n);
-      extend(ext_failed_, failed, 1);
-    } else {
-      ext_failed_.assign(failed, failed + n);
-    }
-    failure = {ext_failed_.data(), bond_stress_.data()};
-  }
-  if (second) {
-    // Quadratic-consistent gradient (eqs. 130-134); symmetry and bond failure are refused at setup.
-    second_order_correction(neighbours_, settings_.kernel, h_, xe, volume, second_b, correction,
-                            fields_.f64_if(field::gradient_condition), n);
-    second_order_velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, second_b, correction, L, n);
-  } else {
-    velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, corrected, L,
-                      fields_.f64_if(field::gradient_condition), correction, n, failure);
-  }
+  const BondFailure failure = bond_failure_inputs(n);
+  velocity_gradient_pass(xe, ve, volume, correction, second_b, L, n, failure);
   continuity_density_rate(L, rho, drho, n);
   // The density advances here, before the material's equation of state, so that the pressure and
   // the deviatoric stress both belong to the new configuration x^n (eq. 14). Updating it after
@@ -1355,6 +1435,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   int frame = 0;
   double last_frame_time = -1.0, last_history_time = -1.0;
   auto write_frame = [&] {
+    output_velocity_gradient();  // L of the state the frame shows (the step reused its storage)
     particle_writer.write(frame, time_, fields_, count_, friction_histories());
     tool_writer.write(frame, time_, tools_);
     last_frame_time = time_;

@@ -83,6 +83,8 @@ class Simulation {
   /// Ghost particles (images across the symmetry cuts) of the last neighbour-list build.
   std::size_t ghost_count() const { return symmetry_.ghost_count(); }
   long long neighbour_builds() const { return neighbours_.builds(); }
+  /// Smoothing length h (m): h_over_dx times the particle spacing.
+  double smoothing_length() const { return h_; }
   /// One item of memory_breakdown(): what holds the memory and how many bytes.
   struct MemoryItem {
     std::string name;
@@ -108,6 +110,11 @@ class Simulation {
   std::vector<double> history_row() const;
   double kinetic_energy() const;
   void mechanics_rates();
+  BondFailure bond_failure_inputs(std::size_t n);
+  void velocity_gradient_pass(const double* xe, const double* ve, const double* volume, double* correction,
+                              double* second_b, double* L, std::size_t n, const BondFailure& failure);
+  std::size_t pass_scratch_per_particle(bool stress_c_in_l) const;
+  void output_velocity_gradient();
   void thermal_rates();
   void integrate();
   void evaluate_thermal_properties();
