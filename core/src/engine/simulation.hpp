@@ -112,9 +112,10 @@ class Simulation {
   void mechanics_rates();
   BondFailure bond_failure_inputs(std::size_t n);
   void velocity_gradient_pass(const double* xe, const double* ve, const double* volume, double* correction,
-                              double* second_b, double* L, std::size_t n, const BondFailure& failure);
+                              double* second_b, double* L, double* condition, std::size_t n,
+                              const BondFailure& failure);
   std::size_t pass_scratch_per_particle(bool stress_c_in_l) const;
-  void output_velocity_gradient();
+  void output_velocity_gradient(std::vector<double>& density_rate, std::vector<double>& condition);
   void thermal_rates();
   void integrate();
   void evaluate_thermal_properties();
