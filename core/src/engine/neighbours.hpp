@@ -134,7 +134,11 @@ class NeighbourList {
   std::vector<std::uint32_t> cell_start_;  // first slot of each cell in sorted_
   std::vector<std::uint32_t> sorted_;      // particle indices sorted by cell
   std::vector<float> sorted_x_;            // their positions relative to the grid origin, 3 per slot
-  std::vector<double> x_at_build_;         // positions when the lists were built
+  // Positions when the lists were built, in single precision (12 bytes per particle instead of 24);
+  // watch_error_ bounds |x_build - x_at_build_| (rounding, theory section 7), which needs_rebuild()
+  // takes off the skin/2 it allows, so that the lists stay complete for `radius`.
+  std::vector<float> x_at_build_;
+  double watch_error_ = 0.0;
   double radius_at_build_ = -1.0;
   long long builds_ = 0;
   bool stale_ = false;  ///< set by build_transient(): the next needs_rebuild() is true
