@@ -69,7 +69,7 @@ const ParamSpecs& numerics_specs() {
                         "neighbourhood allows, with its energy-consistent momentum term (theory section 18)",
                         {"first", "second"}),
       ParamSpec::object("artificial_stress", "Gray-Monaghan-Swift artificial stress against tensile instability"),
-      ParamSpec::number("neighbour_skin", "1", 0.2,
+      ParamSpec::number("neighbour_skin", "1", 0.1,
                         "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
       ParamSpec::number("mass_scaling", "1", 1.0,
                         "factor on every particle's inertia (theory eq. 24); check kinetic_to_internal_ratio_1", 1.0,
@@ -928,7 +928,7 @@ void Simulation::mechanics_rates() {
   const bool second = settings_.second_order_gradient;
   const std::size_t shared_c_r = corrected || with_artificial_stress ? 6 : 0;
   // A = sigma C (9 per particle) goes into the velocity gradient's storage: L is last read by the
-  // material update (eq. 15) and the Jaumann rotation (eq. 13), before A is formed (eq. 3b), and
+  // material update (eq. 15) and the Jaumann rotation (eq. 6), before A is formed (eq. 3b), and
   // nothing in the step reads L after that; an output frame recomputes L from the state it shows
   // (output_velocity_gradient()). With symmetry A is needed for the ghosts too (n + g particles),
   // more than the field holds, so it stays in the pass scratch.
