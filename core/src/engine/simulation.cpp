@@ -917,7 +917,7 @@ void Simulation::mechanics_rates() {
 
   const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
   const bool sym = symmetry_.active();
-  // Per-step scratch: volume (1), correction C (6), A = sigma C (9), and for the artificial stress
+  // Per-step scratch: volume (1), correction C (6), A = sigma C (9, see below), and for the artificial stress
   // R (6) per particle (nt: ghosts included). R is computed in place from sigma/rho^2 (eq. 9 reads
   // a particle's six values before it writes them), so that input needs no array of its own.
   // C and R share one array: C is last read when A = sigma C is formed (eq. 3b), before R is first
@@ -959,7 +959,7 @@ void Simulation::mechanics_rates() {
     }
     // The pass scratch is idle during the build (it is filled below, after it): sized now for this
     // step's particles and ghosts, it lends the build its 20 bytes per point (theory section 7),
-    // so that the scene does not hold both (the build needs 2.5 doubles per point, the scratch has >= 10).
+    // so that the scene does not hold both (the build needs 2.5 doubles per point, the scratch has >= 3).
     const std::size_t points = sym ? n + symmetry_.ghost_count() : n;
     scratch_.resize(scratch_per_particle * points);
     if (sym)

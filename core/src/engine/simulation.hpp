@@ -142,7 +142,7 @@ class Simulation {
   PenaltyContact contact_;
   bool need_yield_ = false;
   std::vector<double> yield_scratch_;
-  std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, sigma/rho^2)
+  std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, C/R; sigma C with symmetry)
 
   std::size_t count_ = 0, mechanical_count_ = 0;
   // Symmetry (engine/symmetry.hpp): the ghosts and the extended arrays [real | ghosts] that the
