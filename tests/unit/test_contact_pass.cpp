@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <tuple>
 #include <vector>
@@ -90,6 +91,25 @@ TEST(ContactPass, CullingFindsExactlyTheTouchingParticles) {
   EXPECT_EQ(lent.apply(tools, a), found);
   EXPECT_EQ(f2, f);
   EXPECT_EQ(lent.bytes() + 3 * n * sizeof(std::uint32_t), contact.bytes());
+  // With as much lent storage as a run's pass scratch (7 doubles per particle, filled with NaN so
+  // that a value read before it is written would show) the near cells' query and the law's batch
+  // live there too: the same contacts and forces to the bit, and the pass holds less than with the
+  // indices alone (what stays: culling cells, near and touching particle lists).
+  PenaltyContact roomy;
+  roomy.configure(settings, {nullptr, nullptr}, dx, 1e9);
+  std::vector<double> f3(3 * n, 0.0), scratch(7 * n, std::numeric_limits<double>::quiet_NaN());
+  a.force = f3.data();
+  a.borrow = scratch;
+  EXPECT_EQ(roomy.apply(tools, a), found);
+  EXPECT_EQ(f3, f);
+  const std::size_t near_and_batch = lent.bytes() - roomy.bytes();
+  EXPECT_GT(roomy.bytes(), 0u);
+  EXPECT_LT(roomy.bytes(), lent.bytes());
+  // The law's batch alone is 26 doubles per contact of the tool with the most (the arrays are
+  // sized per tool and reused); the near cells' query adds 7 per near particle.
+  std::size_t most = 0;
+  for (std::size_t t = 0; t < 2; ++t) most = std::max(most, lent.tool_stats()[t].contacts);
+  EXPECT_GE(near_and_batch, 26 * sizeof(double) * most);
 }
 
 // A law that only counts, in its memory, the passes a particle has touched for (x component) and

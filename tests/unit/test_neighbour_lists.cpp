@@ -210,3 +210,64 @@ TEST(NeighbourLists, BorrowedBuildScratchGivesTheSameListsAndHoldsNone) {
   EXPECT_EQ(lent.build_scratch_bytes() + n * NeighbourList::build_scratch_bytes_per_point(), own.build_scratch_bytes());
   EXPECT_EQ(small.build_scratch_bytes(), own.build_scratch_bytes());
 }
+
+// The watch positions are kept in single precision (theory section 7). Far from the origin their
+// rounding is a sizeable part of the skin: points near x = 3000 (float spacing 2.4e-4 there) with a
+// skin of 0.01 (skin/2 = 5e-3). The rebuild test must stay conservative: whenever some point has
+// moved more than skin/2 since the build (measured in double precision), needs_rebuild() is true;
+// and when it is false, every pair closer than the radius at the new positions is in the lists.
+// Moves of length 5e-3 +- 5e-4 in random directions put many points on either side of skin/2.
+TEST(NeighbourLists, SinglePrecisionWatchPositionsNeverMissARebuild) {
+  const std::size_t n = 400;
+  const double radius = 1.0, skin = 0.01;
+  std::vector<double> x0(3 * n);
+  std::uint64_t state = 12345;
+  auto uniform = [&state] {  // a small LCG: deterministic, no library distribution differences
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) * 0x1p-53;
+  };
+  for (std::size_t k = 0; k < 3 * n; ++k) x0[k] = 3000.0 + 6.0 * uniform();
+  NeighbourList nl;
+  nl.rebuild(x0.data(), n, radius, skin);
+  EXPECT_FALSE(nl.needs_rebuild(x0.data(), n, radius, skin));
+  int rebuilds_required = 0, quiet = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::vector<double> x = x0;
+    // One point moves by a length near skin/2, the others by less than skin/4.
+    const std::size_t moved = static_cast<std::size_t>(uniform() * n) % n;
+    bool beyond = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      double d[3], len2 = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        d[c] = uniform() - 0.5;
+        len2 += d[c] * d[c];
+      }
+      const double length = i == moved ? 5e-3 + 1e-3 * (uniform() - 0.5) : 2.5e-3 * uniform();
+      double shift2 = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        x[3 * i + c] += length * d[c] / std::sqrt(len2);
+        const double s = x[3 * i + c] - x0[3 * i + c];
+        shift2 += s * s;
+      }
+      beyond = beyond || shift2 > 0.25 * skin * skin;
+    }
+    const bool rebuild = nl.needs_rebuild(x.data(), n, radius, skin);
+    if (beyond) {
+      ++rebuilds_required;
+      EXPECT_TRUE(rebuild) << "trial " << trial;
+    }
+    if (!rebuild) {
+      ++quiet;
+      for (std::size_t i = 0; i < n; ++i) {
+        std::vector<std::uint32_t> listed;
+        nl.for_each(i, [&](std::size_t j) { listed.push_back(static_cast<std::uint32_t>(j)); });
+        for (std::size_t j = 0; j < n; ++j)
+          if (j != i && distance(x, i, j) < radius)
+            ASSERT_NE(std::find(listed.begin(), listed.end(), j), listed.end()) << i << " " << j;
+      }
+    }
+  }
+  // Both branches were exercised (the moves straddle skin/2).
+  EXPECT_GT(rebuilds_required, 50);
+  EXPECT_GT(quiet, 50);
+}

@@ -107,7 +107,9 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     slot_of_ = reinterpret_cast<std::uint32_t*>(a.borrow.data());
     cell_of_ = slot_of_ + n;
     cell_particles_ = cell_of_ + n;
+    lent_base_ = (3 * n * sizeof(std::uint32_t) + sizeof(double) - 1) / sizeof(double);
   } else {
+    lent_base_ = a.borrow.size();  // nothing left to lend
     own_slot_of_.resize(n);
     own_cell_of_.resize(n);
     own_cell_particles_.resize(n);
@@ -115,6 +117,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     cell_of_ = own_cell_of_.data();
     cell_particles_ = own_cell_particles_.data();
   }
+  lent_ = a.borrow;
   if (stats_.size() != tools.size()) stats_.assign(tools.size(), ToolContactStats{});
   if (history_.size() != tools.size()) history_.resize(tools.size());
   std::size_t total = 0, stuck = 0;
@@ -168,9 +171,11 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     for (std::size_t s = 0; s < n; ++s)
       if (cell_near_[cell_of_[cell_particles_[s]]]) near_particles_.push_back(cell_particles_[s]);
     const std::size_t m = near_particles_.size();
-    near_x_.resize(3 * m);
-    near_distance_.resize(m);
-    near_normal_.resize(3 * m);
+    // This tool's arrays: the previous tool's are dead, so the lent storage is reused from its start.
+    std::size_t used = lent_base_;
+    near_x_.resize(3 * m, lent_, used);
+    near_distance_.resize(m, lent_, used);
+    near_normal_.resize(3 * m, lent_, used);
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < m; ++k)
       for (int c = 0; c < 3; ++c) near_x_[3 * k + c] = x[3 * near_particles_[k] + c];
@@ -189,20 +194,23 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     // is that of this pass's contacts only (rebuilt below).
     if (nc == 0) history.clear();
     if (nc == 0) continue;
-    batch_mass_.resize(nc);
-    batch_normal_.resize(3 * nc);
-    batch_fn_.resize(nc);
-    batch_gap_.resize(nc);
-    batch_vn_.resize(nc);
-    batch_damping_.resize(nc);
-    batch_vt_.resize(3 * nc);
-    batch_acc_.resize(3 * nc);
-    batch_vwall_.resize(3 * nc);
-    batch_area_.assign(nc, area);
-    batch_yield_.resize(nc);
-    batch_history_.resize(3 * nc);
-    batch_ft_.assign(3 * nc, 0.0);
-    batch_stick_.assign(nc, 0.0);
+    batch_mass_.resize(nc, lent_, used);
+    batch_normal_.resize(3 * nc, lent_, used);
+    batch_fn_.resize(nc, lent_, used);
+    batch_gap_.resize(nc, lent_, used);
+    batch_vn_.resize(nc, lent_, used);
+    batch_damping_.resize(nc, lent_, used);
+    batch_vt_.resize(3 * nc, lent_, used);
+    batch_acc_.resize(3 * nc, lent_, used);
+    batch_vwall_.resize(3 * nc, lent_, used);
+    batch_area_.resize(nc, lent_, used);
+    std::fill(batch_area_.data(), batch_area_.data() + nc, area);
+    batch_yield_.resize(nc, lent_, used);
+    batch_history_.resize(3 * nc, lent_, used);
+    batch_ft_.resize(3 * nc, lent_, used);
+    std::fill(batch_ft_.data(), batch_ft_.data() + 3 * nc, 0.0);
+    batch_stick_.resize(nc, lent_, used);
+    std::fill(batch_stick_.data(), batch_stick_.data() + nc, 0.0);
 
 #pragma omp parallel for schedule(static)
     for (std::size_t c = 0; c < nc; ++c) {

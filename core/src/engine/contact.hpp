@@ -113,7 +113,7 @@ class PenaltyContact {
   }
   /// Memory held by the scratch arrays and the friction memory (bytes).
   std::size_t bytes() const {
-    std::size_t total = (near_x_.capacity() + near_distance_.capacity() + near_normal_.capacity()) * sizeof(double) +
+    std::size_t total = (near_x_.held() + near_distance_.held() + near_normal_.held()) * sizeof(double) +
                         (own_slot_of_.capacity() + own_cell_of_.capacity() + cell_start_.capacity() +
                          own_cell_particles_.capacity() + cell_fill_.capacity() + near_particles_.capacity()) *
                             sizeof(std::uint32_t) +
@@ -122,7 +122,7 @@ class PenaltyContact {
     for (const auto* b : {&batch_mass_, &batch_normal_, &batch_fn_, &batch_gap_, &batch_vn_, &batch_damping_,
                           &batch_vt_, &batch_acc_, &batch_area_, &batch_yield_, &batch_history_, &batch_ft_,
                           &batch_stick_, &batch_vwall_})
-      total += b->capacity() * sizeof(double);
+      total += b->held() * sizeof(double);
     return total;
   }
 
@@ -141,12 +141,14 @@ class PenaltyContact {
   // Scratch, kept between steps so that the pass does not allocate once warmed up. Per particle
   // only 4-byte indices (12 bytes in all: slot_of_, cell_of_, cell_particles_, in the borrowed
   // storage when ContactArrays::borrow is large enough, else in the own_ arrays); the distances and
-  // normals are held for the particles of the near cells only.
+  // normals are held for the particles of the near cells only (LentArray below).
   static constexpr std::uint32_t kFar = 0xffffffffu;  ///< slot_of_: not in a near cell
   std::uint32_t* slot_of_ = nullptr;  ///< each particle's place in near_particles_, or kFar
   std::uint32_t* cell_of_ = nullptr;  ///< each particle's culling cell
   std::uint32_t* cell_particles_ = nullptr;  ///< the particles sorted by cell
   std::vector<std::uint32_t> own_slot_of_, own_cell_of_, own_cell_particles_;
+  std::span<double> lent_;    ///< the storage lent to this pass (ContactArrays::borrow)
+  std::size_t lent_base_ = 0;  ///< doubles of lent_ that the indices take
   std::vector<std::size_t> particle_;   ///< the touching particles, ascending (the law's batch)
   // Culling cells (edge 2 dx) over the particles, rebuilt at every pass.
   void bin_particles(const double* x, std::size_t n);
@@ -154,10 +156,36 @@ class PenaltyContact {
   std::size_t grid_dims_[3] = {1, 1, 1};
   std::vector<std::uint32_t> cell_start_, cell_fill_;
   std::vector<unsigned char> cell_near_;
+  // The per-tool arrays below (near cells' query, the law's batch) are dead once the tool's sums are
+  // made. They live in the lent storage after the 12 bytes of indices per particle when it has room
+  // (the pass scratch holds 7 doubles per particle; these need 60 bytes per near particle and
+  // 160 per touching one), else in their own vectors: a scene does not hold both.
+  class LentArray {
+   public:
+    double* data() { return p_; }
+    double& operator[](std::size_t i) { return p_[i]; }
+    const double& operator[](std::size_t i) const { return p_[i]; }
+    std::size_t held() const { return own_.capacity(); }  ///< doubles held by this object (not lent)
+    /// `count` doubles from `lent` (advancing `used`) when they fit, else from the own vector.
+    void resize(std::size_t count, std::span<double> lent, std::size_t& used) {
+      if (used + count <= lent.size()) {
+        std::vector<double>().swap(own_);
+        p_ = lent.data() + used;
+        used += count;
+      } else {
+        own_.resize(count);
+        p_ = own_.data();
+      }
+    }
+
+   private:
+    std::vector<double> own_;
+    double* p_ = nullptr;
+  };
   // Particles of the near cells (in cell order) and their batch query (positions, distances, normals).
   std::vector<std::uint32_t> near_particles_;
-  std::vector<double> near_x_, near_distance_, near_normal_;
-  std::vector<double> batch_mass_, batch_normal_, batch_fn_, batch_gap_, batch_vn_, batch_damping_, batch_vt_,
+  LentArray near_x_, near_distance_, near_normal_;
+  LentArray batch_mass_, batch_normal_, batch_fn_, batch_gap_, batch_vn_, batch_damping_, batch_vt_,
       batch_acc_, batch_area_, batch_yield_, batch_history_, batch_ft_, batch_stick_, batch_vwall_;
 };
 

@@ -43,20 +43,26 @@ std::size_t NeighbourList::build_scratch_bytes() const {
          sorted_x_.capacity() * sizeof(float);
 }
 
-std::size_t NeighbourList::watch_bytes() const { return x_at_build_.capacity() * sizeof(double); }
+std::size_t NeighbourList::watch_bytes() const { return x_at_build_.capacity() * sizeof(float); }
 
 std::size_t NeighbourList::bytes() const {
   return list_bytes() + index_bytes() + build_scratch_bytes() + watch_bytes();
 }
 
 bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius, double skin) const {
-  if (skin <= 0.0 || n != count() || radius + skin != radius_at_build_) return true;
-  const double limit2 = 0.25 * skin * skin;
+  if (stale_ || skin <= 0.0 || n != count() || radius + skin != radius_at_build_) return true;
+  // The watch positions are rounded to single precision, |x_build - x_at_build_| <= watch_error_:
+  // a particle that has moved at most skin/2 - watch_error_ from x_at_build_ has moved at most skin/2
+  // since the build (theory section 7). The factor (1 - 1e-12) covers the round-off of the double sums below.
+  const double allowed = (0.5 * skin - watch_error_) * (1.0 - 1e-12);
+  if (!(allowed > 0.0)) return true;
+  const double limit2 = allowed * allowed;
   int moved = 0;
 #pragma omp parallel for reduction(max : moved) schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
-    const double dx = x[3 * i] - x_at_build_[3 * i], dy = x[3 * i + 1] - x_at_build_[3 * i + 1],
-                 dz = x[3 * i + 2] - x_at_build_[3 * i + 2];
+    const double dx = x[3 * i] - static_cast<double>(x_at_build_[3 * i]),
+                 dy = x[3 * i + 1] - static_cast<double>(x_at_build_[3 * i + 1]),
+                 dz = x[3 * i + 2] - static_cast<double>(x_at_build_[3 * i + 2]);
     // NaN compares false here; the stability check, not the neighbour search, reports it.
     if (dx * dx + dy * dy + dz * dz > limit2) moved = 1;
   }
@@ -66,9 +72,26 @@ bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius,
 void NeighbourList::rebuild(const double* x, std::size_t n, double radius, double skin, std::size_t query,
                             std::span<double> borrow) {
   build(x, n, radius + skin, query, borrow);
-  x_at_build_.assign(x, x + 3 * std::min(n, query));
+  const std::size_t watched = 3 * std::min(n, query);
+  x_at_build_.resize(watched);
+  double largest = 0.0;
+#pragma omp parallel for reduction(max : largest) schedule(static)
+  for (std::size_t k = 0; k < watched; ++k) {
+    x_at_build_[k] = static_cast<float>(x[k]);  // round to nearest: |error| <= 2^-24 |x| (normal range)
+    largest = std::max(largest, std::abs(x[k]));
+  }
+  // Per coordinate at most 2^-24 of the largest |x| (+ 2^-149, the spacing of the subnormals); the
+  // error vector's length at most sqrt(3) times that.
+  watch_error_ = std::sqrt(3.0) * (largest * 0x1p-24 + 0x1p-149);
   radius_at_build_ = radius + skin;
+  stale_ = false;
   ++builds_;
+}
+
+void NeighbourList::build_transient(const double* x, std::size_t n, double radius, double skin, std::size_t query,
+                                    std::span<double> borrow) {
+  build(x, n, radius + skin, query, borrow);
+  stale_ = true;  // the watch positions stay those of the last counted build
 }
 
 bool NeighbourList::update(const double* x, std::size_t n, double radius, double skin) {

@@ -47,6 +47,12 @@ class NeighbourList {
     return 2 * sizeof(std::uint32_t) + 3 * sizeof(float);
   }
   long long builds() const { return builds_; }
+  /// A build for one evaluation outside the step (an output frame's velocity gradient): lists for
+  /// x as rebuild() makes them, but it does not count as a build and leaves the lists marked stale,
+  /// so that the next needs_rebuild() is true and the step rebuilds exactly where it would have
+  /// without this build (same build count, same watch positions, same reordering schedule).
+  void build_transient(const double* x, std::size_t count, double radius, double skin,
+                       std::size_t query = SIZE_MAX, std::span<double> borrow = {});
 
   /// Builds lists of all j != i with |x_i - x_j| < radius (possibly a few more pairs closer than
   /// radius (1 + 1e-5) + 1e-6 * the cloud's extent: the search runs in single precision with that
@@ -128,9 +134,14 @@ class NeighbourList {
   std::vector<std::uint32_t> cell_start_;  // first slot of each cell in sorted_
   std::vector<std::uint32_t> sorted_;      // particle indices sorted by cell
   std::vector<float> sorted_x_;            // their positions relative to the grid origin, 3 per slot
-  std::vector<double> x_at_build_;         // positions when the lists were built
+  // Positions when the lists were built, in single precision (12 bytes per particle instead of 24);
+  // watch_error_ bounds |x_build - x_at_build_| (rounding, theory section 7), which needs_rebuild()
+  // takes off the skin/2 it allows, so that the lists stay complete for `radius`.
+  std::vector<float> x_at_build_;
+  double watch_error_ = 0.0;
   double radius_at_build_ = -1.0;
   long long builds_ = 0;
+  bool stale_ = false;  ///< set by build_transient(): the next needs_rebuild() is true
 };
 
 /// One particle's neighbour list decoded to 32-bit indices (theory section 7): on the stack for the

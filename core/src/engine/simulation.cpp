@@ -69,7 +69,7 @@ const ParamSpecs& numerics_specs() {
                         "neighbourhood allows, with its energy-consistent momentum term (theory section 18)",
                         {"first", "second"}),
       ParamSpec::object("artificial_stress", "Gray-Monaghan-Swift artificial stress against tensile instability"),
-      ParamSpec::number("neighbour_skin", "1", 0.2,
+      ParamSpec::number("neighbour_skin", "1", 0.1,
                         "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
       ParamSpec::number("mass_scaling", "1", 1.0,
                         "factor on every particle's inertia (theory eq. 24); check kinetic_to_internal_ratio_1", 1.0,
@@ -523,7 +523,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   // --- Pipeline: the passes this scene runs, and the fields they declare -------------------------
   const FieldInfo position{field::position, 3, "m"}, velocity{field::velocity, 3, "m/s"},
       acceleration{field::acceleration, 3, "m/s^2"}, mass{field::mass, 1, "kg"},
-      density{field::density, 1, "kg/m^3"}, density_rate{field::density_rate, 1, "kg/m^3/s"},
+      density{field::density, 1, "kg/m^3"},
       pressure{field::pressure, 1, "Pa"}, stress{field::deviatoric_stress, 6, "Pa"},
       grad_v{field::velocity_gradient, 9, "1/s"}, contact_force{field::contact_force, 3, "N"},
       id{field::id, 1, "1", FieldType::Int64}, body{field::body, 1, "1", FieldType::Int64},
@@ -535,12 +535,13 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   // Optional passes and fields enter the list only when the case uses them.
   passes_ = {{"particles", {}, {id, body, mass, position}}};
   if (any_mechanics) {
+    // The density rate and the gradient condition are per-step values that only the output frames
+    // show: no fields; a frame computes them for the state it shows (output_velocity_gradient()).
     std::vector<FieldInfo> gradient_writes = {grad_v};
-    if (settings_.gradient_correction) gradient_writes.push_back(FieldInfo{field::gradient_condition, 1, "1"});
     passes_.push_back({"neighbour_search", {position}, {}});
     passes_.push_back({settings_.second_order_gradient ? "velocity_gradient_second_order" : "velocity_gradient",
                        {position, velocity, mass, density}, gradient_writes});
-    passes_.push_back({"continuity", {grad_v, density}, {density_rate}});
+    passes_.push_back({"continuity", {grad_v, density}, {density}});
     passes_.push_back({"jaumann_rotation", {grad_v}, {stress}});
     std::vector<std::size_t> used;
     for (std::size_t b = 0; b < builder.bodies.size(); ++b)
@@ -571,7 +572,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     // few per cent of the particles touch a tool; written to the outputs as friction_history_<tool>).
     if (!tools_.empty()) passes_.push_back({"contact", {position, velocity, mass, acceleration, id}, {contact_force}});
     if (settings_.xsph > 0.0) passes_.push_back({"xsph", {position, velocity, mass, density}, {}});
-    passes_.push_back({"integrate", {acceleration, contact_force, density_rate}, {position, velocity, density}});
+    passes_.push_back({"integrate", {acceleration, contact_force}, {position, velocity}});
   }
   if (settings_.thermal.enabled) {
     std::vector<FieldInfo> reads = {position, mass, density, temperature};
@@ -798,6 +799,108 @@ ProcessContext Simulation::context() {
 }
 
 // --- one step ---------------------------------------------------------------------------------------
+// Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge the
+// bonds from the flags and the stresses of the step's start, copied here, so that they leave out the
+// same pairs (the material sets new flags between the two passes).
+BondFailure Simulation::bond_failure_inputs(std::size_t n) {
+  BondFailure failure;
+  if (const double* failed = fields_.f64_if(field::failed)) {
+    const bool sym = symmetry_.active();
+    const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
+    bond_stress_.resize(6 * nt);
+    cauchy_stress(fields_.f64(field::pressure), fields_.f64(field::deviatoric_stress), bond_stress_.data(), n);
+    if (sym) {
+      symmetry_.fill_symmetric(bond_stress_.data(), n);
+      extend(ext_failed_, failed, 1);
+    } else {
+      ext_failed_.assign(failed, failed + n);
+    }
+    failure = {ext_failed_.data(), bond_stress_.data()};
+  }
+  return failure;
+}
+
+// The velocity gradient L (eqs. 3-3b, or eqs. 130-134 with the second-order correction) at x, v
+// (extended with the ghosts) into L, and the gradient condition into `condition` unless null.
+void Simulation::velocity_gradient_pass(const double* xe, const double* ve, const double* volume, double* correction,
+                                        double* second_b, double* L, double* condition, std::size_t n,
+                                        const BondFailure& failure) {
+  if (settings_.second_order_gradient) {
+    // Quadratic-consistent gradient (eqs. 130-134); symmetry and bond failure are refused at setup.
+    second_order_correction(neighbours_, settings_.kernel, h_, xe, volume, second_b, correction, condition, n);
+    second_order_velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, second_b, correction, L, n);
+  } else {
+    velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, settings_.gradient_correction, L, condition,
+                      correction, n, failure);
+  }
+}
+
+// Doubles per particle (and ghost) of the pass scratch: volume (1), C or R (6, one array), A = sigma C
+// (9, unless it is kept in the velocity gradient's storage), and B, A2 = sigma B (54) with the
+// second-order gradient. At least 3, so that the neighbour build (2.5 doubles per point) and the
+// contact pass (1.5) can still borrow it (theory section 7).
+std::size_t Simulation::pass_scratch_per_particle(bool stress_c_in_l) const {
+  const bool c_or_r = settings_.gradient_correction || settings_.artificial_stress.epsilon > 0.0;
+  const std::size_t doubles =
+      1 + (c_or_r ? 6 : 0) + (stress_c_in_l ? 0 : 9) + (settings_.second_order_gradient ? 54 : 0);
+  return std::max<std::size_t>(doubles, 3);
+}
+
+// The velocity gradient of an output frame. The step overwrites L with A = sigma C once L is dead for
+// the arithmetic (mechanics_rates), so a frame recomputes L from the positions, velocities, masses and
+// densities the frame shows, with the same passes the step uses, and with it the two per-step values
+// that are no fields: the density rate (eq. 4) and the gradient condition (eq. 3b), which the frame
+// writes like the friction memory. The lists are the step's when still valid for these positions
+// (Verlet skin); otherwise a transient build for this evaluation leaves them stale, so that the next
+// step rebuilds where it would have anyway: the dynamics do not see this evaluation.
+void Simulation::output_velocity_gradient(std::vector<double>& density_rate, std::vector<double>& condition) {
+  const std::size_t n = mechanical_count_;
+  // Thermal-only particles have neither (0, as the fields that held these values had).
+  density_rate.assign(count_, 0.0);
+  condition.assign(settings_.gradient_correction ? count_ : 0, 0.0);
+  if (n == 0) return;
+  const double* x = fields_.f64(field::position);
+  const double* v = fields_.f64(field::velocity);
+  const double* m = fields_.f64(field::mass);
+  const double* rho = fields_.f64(field::density);
+  double* L = fields_.f64(field::velocity_gradient);
+  double* drho = density_rate.data();
+  // A state that blew up (the instability frame) has no gradient; a build from non-finite positions
+  // would not end well.
+  bool finite = true;
+  for (std::size_t i = 0; i < n && finite; ++i) finite = finite3(x + 3 * i);
+  if (!finite) {
+    std::fill(L, L + 9 * n, std::numeric_limits<double>::quiet_NaN());
+    std::fill(drho, drho + n, std::numeric_limits<double>::quiet_NaN());
+    std::fill(condition.begin(), condition.end(), std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
+  const bool sym = symmetry_.active();
+  const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
+  const std::size_t per = pass_scratch_per_particle(!sym);
+  if (neighbours_.needs_rebuild(x, n, search, skin)) {
+    if (sym) symmetry_.select(x, n, search + skin);
+    const std::size_t points = sym ? n + symmetry_.ghost_count() : n;
+    scratch_.resize(per * points);
+    if (sym)
+      neighbours_.build_transient(extend(ext_x_, x, 3, true), points, search, skin, n, scratch_);
+    else
+      neighbours_.build_transient(x, n, search, skin, SIZE_MAX, scratch_);
+  }
+  const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
+  const double* xe = sym ? extend(ext_x_, x, 3, true) : x;
+  const double* ve = sym ? extend(ext_v_, v, 3) : v;
+  const double* me = sym ? extend(ext_m_, m, 1) : m;
+  scratch_.resize(per * nt);
+  double* volume = scratch_.data();
+  double* correction = settings_.gradient_correction ? volume + nt : nullptr;
+  double* second_b = settings_.second_order_gradient ? volume + (per - 54) * nt : nullptr;
+  particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
+  velocity_gradient_pass(xe, ve, volume, correction, second_b, L, condition.empty() ? nullptr : condition.data(), n,
+                         bond_failure_inputs(n));
+  continuity_density_rate(L, rho, drho, n);
+}
+
 void Simulation::mechanics_rates() {
   const std::size_t n = mechanical_count_;
   double* x = fields_.f64(field::position);
@@ -805,7 +908,6 @@ void Simulation::mechanics_rates() {
   double* a = fields_.f64(field::acceleration);
   double* m = fields_.f64(field::mass);
   double* rho = fields_.f64(field::density);
-  double* drho = fields_.f64(field::density_rate);
   double* p = fields_.f64(field::pressure);
   double* S = fields_.f64(field::deviatoric_stress);
   double* L = fields_.f64(field::velocity_gradient);
@@ -815,7 +917,7 @@ void Simulation::mechanics_rates() {
 
   const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
   const bool sym = symmetry_.active();
-  // Per-step scratch: volume (1), correction C (6), A = sigma C (9), and for the artificial stress
+  // Per-step scratch: volume (1), correction C (6), A = sigma C (9, see below), and for the artificial stress
   // R (6) per particle (nt: ghosts included). R is computed in place from sigma/rho^2 (eq. 9 reads
   // a particle's six values before it writes them), so that input needs no array of its own.
   // C and R share one array: C is last read when A = sigma C is formed (eq. 3b), before R is first
@@ -825,7 +927,13 @@ void Simulation::mechanics_rates() {
   // The second-order correction (theory section 18) adds B and A2 = sigma B, 27 each per particle.
   const bool second = settings_.second_order_gradient;
   const std::size_t shared_c_r = corrected || with_artificial_stress ? 6 : 0;
-  const std::size_t scratch_per_particle = 1 + shared_c_r + 9 + (second ? 54 : 0);
+  // A = sigma C (9 per particle) goes into the velocity gradient's storage: L is last read by the
+  // material update (eq. 15) and the Jaumann rotation (eq. 6), before A is formed (eq. 3b), and
+  // nothing in the step reads L after that; an output frame recomputes L from the state it shows
+  // (output_velocity_gradient()). With symmetry A is needed for the ghosts too (n + g particles),
+  // more than the field holds, so it stays in the pass scratch.
+  const bool stress_c_in_l = !sym;
+  const std::size_t scratch_per_particle = pass_scratch_per_particle(stress_c_in_l);
   if (neighbours_.needs_rebuild(x, n, search, skin)) {
     // Symmetry: particles that crossed a cut re-enter through its image (eq. 32).
     if (sym && symmetry_.wrap(fields_, n, wrap_moves_) > 0) {
@@ -851,7 +959,7 @@ void Simulation::mechanics_rates() {
     }
     // The pass scratch is idle during the build (it is filled below, after it): sized now for this
     // step's particles and ghosts, it lends the build its 20 bytes per point (theory section 7),
-    // so that the scene does not hold both (the build needs 2.5 doubles per point, the scratch has >= 10).
+    // so that the scene does not hold both (the build needs 2.5 doubles per point, the scratch has >= 3).
     const std::size_t points = sym ? n + symmetry_.ghost_count() : n;
     scratch_.resize(scratch_per_particle * points);
     if (sym)
@@ -869,43 +977,29 @@ void Simulation::mechanics_rates() {
   double* volume = scratch_.data();
   double* correction = corrected ? volume + nt : nullptr;
   double* artificial = with_artificial_stress ? volume + nt : nullptr;  // C's storage, once C is dead
-  double* stress_c = volume + (1 + shared_c_r) * nt;
-  double* second_b = second ? stress_c + 9 * nt : nullptr;
+  double* stress_c = stress_c_in_l ? L : volume + (1 + shared_c_r) * nt;
+  double* second_b = second ? volume + (1 + shared_c_r + (stress_c_in_l ? 0 : 9)) * nt : nullptr;
   double* stress_b = second ? second_b + 27 * nt : nullptr;
   // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
   particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
-  // Bond failure (eqs. 110-114), only where a material declared `failed`: both pair passes judge the
-  // bonds from the flags and the stresses of the step's start, copied here, so that they leave out the
-  // same pairs (the material sets new flags between the two passes).
-  BondFailure failure;
-  if (const double* failed = fields_.f64_if(field::failed)) {
-    bond_stress_.resize(6 * nt);
-    cauchy_stress(p, S, bond_stress_.data(), n);
-    if (sym) {
-      symmetry_.fill_symmetric(bond_stress_.data(), n);
-      extend(ext_failed_, failed, 1);
-    } else {
-      ext_failed_.assign(failed, failed + n);
-    }
-    failure = {ext_failed_.data(), bond_stress_.data()};
-  }
-  if (second) {
-    // Quadratic-consistent gradient (eqs. 130-134); symmetry and bond failure are refused at setup.
-    second_order_correction(neighbours_, settings_.kernel, h_, xe, volume, second_b, correction,
-                            fields_.f64_if(field::gradient_condition), n);
-    second_order_velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, second_b, correction, L, n);
-  } else {
-    velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, corrected, L,
-                      fields_.f64_if(field::gradient_condition), correction, n, failure);
-  }
-  continuity_density_rate(L, rho, drho, n);
+  const BondFailure failure = bond_failure_inputs(n);
+  velocity_gradient_pass(xe, ve, volume, correction, second_b, L, nullptr, n, failure);
   // The density advances here, before the material's equation of state, so that the pressure and
   // the deviatoric stress both belong to the new configuration x^n (eq. 14). Updating it after
   // the momentum pass lagged the pressure one step behind: a delayed restoring force that pumps
   // energy into nearly incompressible bodies (a free elastic block with nu = 0.47 gained 25x its
   // kinetic energy at cfl 0.3).
+  // The rate (eq. 4) serves only this update, so it goes through a small buffer per block of
+  // particles instead of an array per particle; the arithmetic is that of a whole-array rate.
+  constexpr std::size_t kRateBlock = 1024;
+  const std::size_t rate_blocks = (n + kRateBlock - 1) / kRateBlock;
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) rho[i] += dt_ * drho[i];
+  for (std::size_t blk = 0; blk < rate_blocks; ++blk) {
+    double drho[kRateBlock];
+    const std::size_t first = blk * kRateBlock, len = std::min(kRateBlock, n - first);
+    continuity_density_rate(L + 9 * first, rho + first, drho, len);  // (nested: serial in this thread)
+    for (std::size_t k = 0; k < len; ++k) rho[first + k] += dt_ * drho[k];
+  }
   jaumann_rotation(L, dt_, S, n);
   // Materials see the physical density: mass scaling multiplied the inertial one (eq. 24).
   const double* material_density = rho;
@@ -1339,10 +1433,18 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   io::HistoryWriter history(out_dir / "history.csv", history_header());
   Progress progress(progress_mode, settings_.end_time_s);
 
-  // The friction laws' memory, kept by the contact pass for the touching particles only, is
-  // written like a field (friction_history_<tool>, 3 per particle, zero where none; eq. 18b).
-  auto friction_histories = [&] {
+  // Arrays a frame writes besides the fields. The friction laws' memory, kept by the contact pass
+  // for the touching particles only, is written like a field (friction_history_<tool>, 3 per
+  // particle, zero where none; eq. 18b).
+  auto frame_arrays = [&] {
     std::vector<io::ParticleArray> out;
+    // L of the state the frame shows (the step reused its storage), with the density rate and the
+    // gradient condition of that state.
+    std::vector<double> drho, condition;
+    output_velocity_gradient(drho, condition);
+    if (mechanical_count_ > 0) out.push_back({field::density_rate, 1, "kg/m^3/s", std::move(drho)});
+    if (mechanical_count_ > 0 && !condition.empty())
+      out.push_back({field::gradient_condition, 1, "1", std::move(condition)});
     for (std::size_t t = 0; t < tools_.size(); ++t) {
       if (!tool_laws_[t]->needs_history()) continue;
       io::ParticleArray a{"friction_history_" + tools_[t].name(), 3, "N", std::vector<double>(3 * count_)};
@@ -1355,7 +1457,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   int frame = 0;
   double last_frame_time = -1.0, last_history_time = -1.0;
   auto write_frame = [&] {
-    particle_writer.write(frame, time_, fields_, count_, friction_histories());
+    particle_writer.write(frame, time_, fields_, count_, frame_arrays());
     tool_writer.write(frame, time_, tools_);
     last_frame_time = time_;
     ++frame;
@@ -1408,7 +1510,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     try { write_frame(); } catch (...) {}
     // Full-precision state of every field for diagnosis (h5dump / h5py).
     try {
-      io::write_particle_dump(out_dir / "instability_dump.h5", fields_, count_, time_, step_, friction_histories());
+      io::write_particle_dump(out_dir / "instability_dump.h5", fields_, count_, time_, step_, frame_arrays());
       result.message += "; state dumped to instability_dump.h5";
     } catch (const std::exception&) {
     }

@@ -83,6 +83,8 @@ class Simulation {
   /// Ghost particles (images across the symmetry cuts) of the last neighbour-list build.
   std::size_t ghost_count() const { return symmetry_.ghost_count(); }
   long long neighbour_builds() const { return neighbours_.builds(); }
+  /// Smoothing length h (m): h_over_dx times the particle spacing.
+  double smoothing_length() const { return h_; }
   /// One item of memory_breakdown(): what holds the memory and how many bytes.
   struct MemoryItem {
     std::string name;
@@ -108,6 +110,12 @@ class Simulation {
   std::vector<double> history_row() const;
   double kinetic_energy() const;
   void mechanics_rates();
+  BondFailure bond_failure_inputs(std::size_t n);
+  void velocity_gradient_pass(const double* xe, const double* ve, const double* volume, double* correction,
+                              double* second_b, double* L, double* condition, std::size_t n,
+                              const BondFailure& failure);
+  std::size_t pass_scratch_per_particle(bool stress_c_in_l) const;
+  void output_velocity_gradient(std::vector<double>& density_rate, std::vector<double>& condition);
   void thermal_rates();
   void integrate();
   void evaluate_thermal_properties();
@@ -134,7 +142,7 @@ class Simulation {
   PenaltyContact contact_;
   bool need_yield_ = false;
   std::vector<double> yield_scratch_;
-  std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, sigma/rho^2)
+  std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, C/R; sigma C with symmetry)
 
   std::size_t count_ = 0, mechanical_count_ = 0;
   // Symmetry (engine/symmetry.hpp): the ghosts and the extended arrays [real | ghosts] that the
