@@ -159,10 +159,12 @@ struct MomentumArgs {
   BondFailure failure;  // failed == null: no failure in the scene
 };
 
+/// The sums of eq. 7 for particle i over its decoded neighbours nb[0, count).
 /// Exponent: 0 without artificial stress, 4 for the usual n = 4 (multiplications), -1 for any
 /// other n (pow). Failure: the bond rule of eq. 112 (a separate instance, see the gradient).
 template <KernelKind K, int Exponent, bool Failure>
-SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
+SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i,
+                                          const std::uint32_t* const nb, const std::ptrdiff_t count) {
   constexpr bool kStress = Exponent != 0;
   const double* x = g.x;
   const double* v = g.v;
@@ -180,9 +182,6 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   for (int c = 0; c < 9; ++c) ai[c] = stress_c[9 * i + c];
   for (int c = 0; c < 6; ++c) Ri[c] = kStress ? R[6 * i + c] : 0.0;
   double a0 = 0, a1 = 0, a2 = 0;
-  DecodedList list(*g.nl, i);
-  const std::uint32_t* const nb = list.indices;
-  const std::ptrdiff_t count = list.count;
   double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
   if constexpr (Failure) {
     for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
@@ -250,6 +249,35 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   g.acc[3 * i] = a0;
   g.acc[3 * i + 1] = a1;
   g.acc[3 * i + 2] = a2;
+}
+
+/// True when R (eq. 9) is 0 for particle i and all its neighbours. R is negative semidefinite, so
+/// it is 0 exactly when its trace is: its diagonal entries are sums of non-positive terms.
+SPHFORGE_ALWAYS_INLINE bool no_tension_around(const double* R, std::size_t i, const std::uint32_t* nb,
+                                              std::ptrdiff_t count) {
+  if (R[6 * i] + R[6 * i + 1] + R[6 * i + 2] != 0.0) return false;
+  for (std::ptrdiff_t k = 0; k < count; ++k) {  // stops at the first neighbour under tension
+    const std::size_t j = nb[k];
+    if (R[6 * j] + R[6 * j + 1] + R[6 * j + 2] != 0.0) return false;
+  }
+  return true;
+}
+
+template <KernelKind K, int Exponent, bool Failure>
+SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
+  const DecodedList list(*g.nl, i);
+  const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(list.count);
+  // Where neither i nor any neighbour is under principal tension, every artificial-stress term is
+  // an exact 0 (eq. 9): the loop without it gives the same sums to the bit (same kernel factor,
+  // same order) and skips the six gathers of R_j per pair. The usual case in forming, where most
+  // of the material is in compression: a scene pays for the artificial stress only where it acts.
+  if constexpr (Exponent != 0) {
+    if (no_tension_around(g.R, i, list.indices, count)) {
+      momentum_sums<K, 0, Failure>(g, kernel, i, list.indices, count);
+      return;
+    }
+  }
+  momentum_sums<K, Exponent, Failure>(g, kernel, i, list.indices, count);
 }
 
 template <KernelKind K, int Exponent, bool Failure>
