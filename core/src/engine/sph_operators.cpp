@@ -252,7 +252,9 @@ SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKerne
 }
 
 /// True when R (eq. 9) is 0 for particle i and all its neighbours. R is negative semidefinite, so
-/// it is 0 exactly when its trace is: its diagonal entries are sums of non-positive terms.
+/// it is 0 exactly when its trace is: its diagonal entries are sums of non-positive terms, and a
+/// nonzero principal value r_k puts at most r_k / 3 on some diagonal entry (unless |r_k| is so
+/// small that this underflows, when the term it would add is below round-off anyway).
 SPHFORGE_ALWAYS_INLINE bool no_tension_around(const double* R, std::size_t i, const std::uint32_t* nb,
                                               std::ptrdiff_t count) {
   if (R[6 * i] + R[6 * i + 1] + R[6 * i + 2] != 0.0) return false;
