@@ -85,6 +85,10 @@ inline constexpr const char* density = "density";                // kg/m^3
 inline constexpr const char* density_rate = "density_rate";      // kg/m^3/s
 inline constexpr const char* pressure = "pressure";              // Pa
 inline constexpr const char* deviatoric_stress = "deviatoric_stress";    // Pa, 6 comps
+// velocity_gradient holds L for the material update of the step (MaterialBatch); after it the step
+// reuses its storage for sigma C (docs/theory.md section 7), and an output frame recomputes L for
+// the state it shows. A plugin that needs L elsewhere computes it; density_rate and
+// gradient_condition are output arrays of the frames, not fields.
 inline constexpr const char* velocity_gradient = "velocity_gradient";    // 1/s, 9 comps L_ab = dv_a/dx_b
 inline constexpr const char* gradient_condition = "gradient_condition";  // 1, cond(M), -1 where uncorrected
 inline constexpr const char* contact_force = "contact_force";    // N
