@@ -846,6 +846,25 @@ std::size_t Simulation::pass_scratch_per_particle(bool stress_c_in_l) const {
   return std::max<std::size_t>(doubles, 3);
 }
 
+// The mechanical neighbour lists at x. With symmetry the ghosts are selected first: the images within
+// support + skin of the region (eq. 31), lists for the real particles only, over real and ghost
+// particles alike. The pass scratch is idle during a build (it is filled after it): sized here for
+// `per_particle` doubles per particle and ghost, it lends the build its 20 bytes per point (theory
+// section 7), so that the scene does not hold both (the build needs 2.5 doubles per point, the
+// scratch has >= 3). `transient`: a build for one evaluation outside the step, which leaves the step's
+// rebuild schedule as it was (NeighbourList::build_transient).
+void Simulation::build_mechanical_lists(const double* x, std::size_t n, std::size_t per_particle, bool transient) {
+  const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
+  const bool sym = symmetry_.active();
+  if (sym) symmetry_.select(x, n, search + skin);
+  const std::size_t points = sym ? n + symmetry_.ghost_count() : n;
+  scratch_.resize(per_particle * points);
+  const double* xe = sym ? extend(ext_x_, x, 3, true) : x;
+  const std::size_t query = sym ? n : SIZE_MAX;
+  if (transient) neighbours_.build_transient(xe, points, search, skin, query, scratch_);
+  else neighbours_.rebuild(xe, points, search, skin, query, scratch_);
+}
+
 // The velocity gradient of an output frame. The step overwrites L with A = sigma C once L is dead for
 // the arithmetic (mechanics_rates), so a frame recomputes L from the positions, velocities, masses and
 // densities the frame shows, with the same passes the step uses, and with it the two per-step values
@@ -878,15 +897,7 @@ void Simulation::output_velocity_gradient(std::vector<double>& density_rate, std
   const bool sym = symmetry_.active();
   const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
   const std::size_t per = pass_scratch_per_particle(!sym);
-  if (neighbours_.needs_rebuild(x, n, search, skin)) {
-    if (sym) symmetry_.select(x, n, search + skin);
-    const std::size_t points = sym ? n + symmetry_.ghost_count() : n;
-    scratch_.resize(per * points);
-    if (sym)
-      neighbours_.build_transient(extend(ext_x_, x, 3, true), points, search, skin, n, scratch_);
-    else
-      neighbours_.build_transient(x, n, search, skin, SIZE_MAX, scratch_);
-  }
+  if (neighbours_.needs_rebuild(x, n, search, skin)) build_mechanical_lists(x, n, per, /*transient=*/true);
   const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
   const double* xe = sym ? extend(ext_x_, x, 3, true) : x;
   const double* ve = sym ? extend(ext_v_, v, 3) : v;
@@ -952,20 +963,7 @@ void Simulation::mechanics_rates() {
     // each body; every registered field moves, and nothing else indexed by particle outlives a step).
     if (neighbours_.builds() % kReorderEveryBuilds == 0 && reorder_by_cell(fields_, bodies_, search + skin))
       thermal_lists_stale_ = true;  // thermal-only particles moved in the arrays too
-    if (sym) {
-      // Ghosts: the images within support + skin of the region (eq. 31); lists for the real
-      // particles only, over real and ghost particles alike.
-      symmetry_.select(x, n, search + skin);
-    }
-    // The pass scratch is idle during the build (it is filled below, after it): sized now for this
-    // step's particles and ghosts, it lends the build its 20 bytes per point (theory section 7),
-    // so that the scene does not hold both (the build needs 2.5 doubles per point, the scratch has >= 3).
-    const std::size_t points = sym ? n + symmetry_.ghost_count() : n;
-    scratch_.resize(scratch_per_particle * points);
-    if (sym)
-      neighbours_.rebuild(extend(ext_x_, x, 3, true), points, search, skin, n, scratch_);
-    else
-      neighbours_.rebuild(x, n, search, skin, SIZE_MAX, scratch_);
+    build_mechanical_lists(x, n, scratch_per_particle, /*transient=*/false);
   }
   // With symmetry the pair passes read extended arrays [real | ghosts] of size nt = n + g; the
   // ghosts' values are refreshed from their sources right before the pass that reads them.

@@ -115,6 +115,7 @@ class Simulation {
                               double* second_b, double* L, double* condition, std::size_t n,
                               const BondFailure& failure);
   std::size_t pass_scratch_per_particle(bool stress_c_in_l) const;
+  void build_mechanical_lists(const double* x, std::size_t n, std::size_t per_particle, bool transient);
   void output_velocity_gradient(std::vector<double>& density_rate, std::vector<double>& condition);
   void thermal_rates();
   void integrate();
