@@ -123,8 +123,11 @@ struct MomentumBlock {
     as.w_dx = kernel_value(KernelKind::CubicSpline, dx, h);
     if (!R) as.epsilon = 0.0;
     std::vector<double> a(3 * n);
+    // The tension bits as the step makes them, so that the sums without the term are exercised.
+    std::vector<std::uint64_t> tension((n + 63) / 64);
+    if (R) mark_tension(R, n, tension.data());
     momentum_rate(nl, KernelKind::CubicSpline, h, ArtificialViscosity{}, 5000.0, x.data(), v.data(), m.data(),
-                  rho.data(), volume.data(), stress_c.data(), as, R, a.data(), n);
+                  rho.data(), volume.data(), stress_c.data(), as, R, R ? tension.data() : nullptr, a.data(), n);
     return a;
   }
 };

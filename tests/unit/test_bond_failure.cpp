@@ -101,7 +101,7 @@ struct TwoParticles {
     ArtificialStress none;
     none.epsilon = 0.0;
     momentum_rate(nl, KernelKind::CubicSpline, h, ArtificialViscosity{}, 5000.0, x.data(), v.data(), m.data(),
-                  rho.data(), volume.data(), stress_c.data(), none, nullptr, a.data(), n,
+                  rho.data(), volume.data(), stress_c.data(), none, nullptr, nullptr, a.data(), n,
                   with_rule ? rule() : BondFailure{});
     return a;
   }

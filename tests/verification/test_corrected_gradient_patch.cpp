@@ -99,12 +99,19 @@ void check_patch(KernelKind kernel) {
 
 TEST(CorrectedGradientPatch, LinearVelocityExactOnJitteredBlockCubicSpline) { check_patch(KernelKind::CubicSpline); }
 TEST(CorrectedGradientPatch, LinearVelocityExactOnJitteredBlockWendlandC2) { check_patch(KernelKind::WendlandC2); }
-// The same with the generic (non-AVX2) pair loops, which CPUs without AVX2 run.
+// The same with the generic pair loops, which CPUs without AVX2 run, and with the AVX2 loops,
+// which CPUs with AVX-512VL do not run by default (each cap selects at most what the CPU has).
 TEST(CorrectedGradientPatch, LinearVelocityExactWithGenericPairLoops) {
-  const bool previous = allow_avx2_pair_loops(false);
+  const PairLoopIsa previous = limit_pair_loop_isa(PairLoopIsa::generic);
   check_patch(KernelKind::CubicSpline);
   check_patch(KernelKind::WendlandC2);
-  allow_avx2_pair_loops(previous);
+  limit_pair_loop_isa(previous);
+}
+TEST(CorrectedGradientPatch, LinearVelocityExactWithAvx2PairLoops) {
+  const PairLoopIsa previous = limit_pair_loop_isa(PairLoopIsa::avx2);
+  check_patch(KernelKind::CubicSpline);
+  check_patch(KernelKind::WendlandC2);
+  limit_pair_loop_isa(previous);
 }
 
 }  // namespace

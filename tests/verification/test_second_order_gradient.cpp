@@ -275,7 +275,7 @@ TEST(SecondOrderGradient, MomentumTermIsDualToTheGradient) {
   ArtificialViscosity no_viscosity{0.0, 0.0, 0.1};
   ArtificialStress no_stress{0.0, 4.0, 1.0};
   momentum_rate(c.nl, KernelKind::CubicSpline, c.h, no_viscosity, 1.0, c.x.data(), v.data(), mass.data(),
-                density.data(), c.volume.data(), stress_c.data(), no_stress, nullptr, a.data(), c.n);
+                density.data(), c.volume.data(), stress_c.data(), no_stress, nullptr, nullptr, a.data(), c.n);
   second_order_momentum_term(c.nl, KernelKind::CubicSpline, c.h, c.x.data(), mass.data(), c.volume.data(),
                              stress_b.data(), a.data(), c.n);
   double kinetic_rate = 0.0, stress_power = 0.0, scale = 0.0, force[3] = {0, 0, 0}, force_scale = 0.0;

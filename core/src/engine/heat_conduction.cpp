@@ -67,42 +67,19 @@ struct HeatArgs {
 };
 
 template <KernelKind K>
-void conduction_loop(const HeatArgs& a) {
+void heat_conduction_impl(const HeatArgs& a) {
   const PairKernel<K> kernel(a.h);
   const double eta2 = 0.01 * a.h * a.h;  // keeps the 1/r^2 finite for coincident particles (eq. 20)
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < a.n; ++i) a.out[i] += conduction_particle<K>(*a.nl, kernel, eta2, a.x, a.volume, a.T, a.k, i);
-}
-template <KernelKind K>
-SPHFORGE_TARGET_AVX2 void conduction_loop_avx2(const HeatArgs& a) {
-  const PairKernel<K> kernel(a.h);
-  const double eta2 = 0.01 * a.h * a.h;
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < a.n; ++i) a.out[i] += conduction_particle<K>(*a.nl, kernel, eta2, a.x, a.volume, a.T, a.k, i);
-}
-
-template <KernelKind K>
-void surface_area_loop(const HeatArgs& a) {
-  const PairKernel<K> kernel(a.h);
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < a.n; ++i) a.out[i] = surface_area_particle<K>(*a.nl, kernel, a.x, a.volume, i);
-}
-template <KernelKind K>
-SPHFORGE_TARGET_AVX2 void surface_area_loop_avx2(const HeatArgs& a) {
-  const PairKernel<K> kernel(a.h);
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < a.n; ++i) a.out[i] = surface_area_particle<K>(*a.nl, kernel, a.x, a.volume, i);
-}
-
-template <KernelKind K>
-void heat_conduction_impl(const HeatArgs& a) {
-  if (pair_loops_use_avx2()) conduction_loop_avx2<K>(a);
-  else conduction_loop<K>(a);
+  for_each_particle(a.n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
+    a.out[i] += conduction_particle<K>(*a.nl, kernel, eta2, a.x, a.volume, a.T, a.k, i);
+  });
 }
 template <KernelKind K>
 void surface_area_impl(const HeatArgs& a) {
-  if (pair_loops_use_avx2()) surface_area_loop_avx2<K>(a);
-  else surface_area_loop<K>(a);
+  const PairKernel<K> kernel(a.h);
+  for_each_particle(a.n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
+    a.out[i] = surface_area_particle<K>(*a.nl, kernel, a.x, a.volume, i);
+  });
 }
 
 }  // namespace

@@ -38,6 +38,7 @@ std::vector<Simulation::MemoryItem> Simulation::memory_breakdown() const {
   items.push_back({"contact scratch", contact_.bytes() - contact_.history_bytes()});
   items.push_back({"friction memory (touching particles only)", contact_.history_bytes()});
   items.push_back({"pass scratch (volume, correction or artificial stress; sigma C with symmetry)", held(scratch_)});
+  items.push_back({"tension bits (artificial stress)", held(tension_bits_)});
   items.push_back({"yield stress scratch", held(yield_scratch_)});
   items.push_back({"bond failure scratch", held(bond_stress_) + held(ext_failed_)});
   items.push_back({"physical density scratch (mass scaling)", held(physical_density_)});

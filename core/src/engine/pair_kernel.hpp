@@ -4,22 +4,71 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "sphforge/kernels.hpp"
 
 namespace sphforge {
 
 #define SPHFORGE_PAIR_INLINE __attribute__((always_inline)) inline
-// The AVX2 + FMA instances of the pair loops (engine/sph_operators.cpp explains the scheme).
+
+// Instances of the pair loops. Each pair pass is a per-particle function (always inlined, its
+// neighbour loop written for `omp simd`: scalar accumulators, no branches) that for_each_particle()
+// below runs over all particles in the best instance the CPU has, chosen at run time:
+//  - generic (x86-64 baseline SSE2, and every other architecture);
+//  - AVX2 + FMA: four pairs per instruction;
+//  - AVX-512VL at the same 256-bit width: 32 vector registers instead of 16 (the momentum loop keeps
+//    about 30 per-particle constants and spilled them with 16) and mask registers for the kernel's
+//    selects. 512-bit vectors were slower (docs/bench.md "Throughput").
+// The summation order is fixed by the instance (its vector width, here 4 or 1), never by the
+// number of threads.
 #if defined(__GNUC__) && defined(__x86_64__)
 #define SPHFORGE_TARGET_AVX2 __attribute__((target("avx2,fma")))
+#define SPHFORGE_TARGET_AVX512VL \
+  __attribute__((target("avx2,fma,avx512f,avx512vl,avx512dq,prefer-vector-width=256")))
 #else
 #define SPHFORGE_TARGET_AVX2
+#define SPHFORGE_TARGET_AVX512VL
 #endif
 
-/// True when the pair loops run their AVX2 + FMA instances: the CPU has them and
-/// allow_avx2_pair_loops() (engine/sph_operators.hpp) has not turned them off.
-bool pair_loops_use_avx2();
+enum class PairLoopIsa { generic = 0, avx2 = 1, avx512vl = 2 };
+
+/// The instance the pair loops run: the best the CPU has, capped by limit_pair_loop_isa()
+/// (engine/sph_operators.hpp).
+PairLoopIsa pair_loop_isa();
+
+namespace pair_loop_detail {
+// The same parallel loop compiled three times; `body` (an always-inline lambda) is inlined into
+// each and vectorised for its instruction set.
+template <class Body>
+void run_generic(std::size_t n, const Body& body) {
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::size_t i = 0; i < n; ++i) body(i);
+}
+template <class Body>
+SPHFORGE_TARGET_AVX2 void run_avx2(std::size_t n, const Body& body) {
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::size_t i = 0; i < n; ++i) body(i);
+}
+template <class Body>
+SPHFORGE_TARGET_AVX512VL void run_avx512vl(std::size_t n, const Body& body) {
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::size_t i = 0; i < n; ++i) body(i);
+}
+}  // namespace pair_loop_detail
+
+/// body(i) for every particle i in [0, n), OpenMP-parallel (dynamic chunks of 512 particles: the
+/// cost per particle varies with its neighbours), in the instance of pair_loop_isa(). body must be
+/// an always-inline lambda (SPHFORGE_PAIR_LAMBDA), so that its loops are compiled for each instance.
+template <class Body>
+void for_each_particle(std::size_t n, const Body& body) {
+  switch (pair_loop_isa()) {
+    case PairLoopIsa::avx512vl: pair_loop_detail::run_avx512vl(n, body); break;
+    case PairLoopIsa::avx2: pair_loop_detail::run_avx2(n, body); break;
+    default: pair_loop_detail::run_generic(n, body);
+  }
+}
+#define SPHFORGE_PAIR_LAMBDA __attribute__((always_inline))
 
 // Kernel gradient factor F = (dW/dr)/r and value W of one pair from r^2 (theory eqs. 1-2), without
 // branches: the pair loops then run straight through (which of the kernel's pieces a pair falls

@@ -1042,10 +1042,14 @@ void Simulation::mechanics_rates() {
     if (artificial) symmetry_.fill_symmetric(artificial, n);
     rho_e = extend(ext_rho_, rho, 1);
   }
+  if (artificial) {
+    tension_bits_.resize((nt + 63) / 64);
+    mark_tension(artificial, nt, tension_bits_.data());
+  }
   // The volumes are those of the step's start (before the density update): the same V_j the
   // corrected gradient used, as the energy consistency of eq. 7 requires.
   momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, xe, ve, me, rho_e, volume, stress_c,
-                settings_.artificial_stress, artificial, a, n, failure);
+                settings_.artificial_stress, artificial, artificial ? tension_bits_.data() : nullptr, a, n, failure);
   // Its quadratic part, the dual of the second-order gradient (eq. 136).
   if (second) second_order_momentum_term(neighbours_, settings_.kernel, h_, xe, me, volume, stress_b, a, n);
   // Body force (gravity): the internal-work ledger below takes it out again so that it is not

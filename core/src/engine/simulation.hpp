@@ -144,6 +144,7 @@ class Simulation {
   bool need_yield_ = false;
   std::vector<double> yield_scratch_;
   std::vector<double> scratch_;  ///< per-particle temporaries of the pair passes (volume, C/R; sigma C with symmetry)
+  std::vector<std::uint64_t> tension_bits_;  ///< mark_tension() of the artificial stress R, 1 bit per point
 
   std::size_t count_ = 0, mechanical_count_ = 0;
   // Symmetry (engine/symmetry.hpp): the ghosts and the extended arrays [real | ghosts] that the

@@ -15,13 +15,9 @@ namespace {
 // Symmetric 6-component storage (xx yy zz xy yz xz) <-> 3x3 index.
 constexpr int kSym[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
 
-// Each pair pass is a per-particle function (always inlined) and two drivers running it over all
-// particles: a generic one and, on x86-64 CPUs that have them, one compiled for AVX2 + FMA, chosen
-// at run time (pair_loops_use_avx2(), engine/pair_kernel.hpp). The neighbour loops are written for
-// `omp simd` (scalar accumulators, no branches), so that with AVX2 they run four pairs per
-// instruction; the summation order is then fixed by the build and the CPU, never by the number of
-// threads.
-std::atomic<bool> g_allow_avx2{true};
+// Each pair pass is a per-particle function (always inlined) that for_each_particle()
+// (engine/pair_kernel.hpp) runs over all particles in the best instance the CPU has.
+std::atomic<int> g_isa_limit{static_cast<int>(PairLoopIsa::avx512vl)};
 #define SPHFORGE_ALWAYS_INLINE __attribute__((always_inline)) inline
 
 
@@ -118,27 +114,12 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
 }
 
 template <KernelKind K, bool Corrected, bool Failure>
-void velocity_gradient_generic(const GradientArgs& g, double h) {
-  const PairKernel<K> kernel(h);
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i)
-    if (Failure && g.failure.failed[i] != 0.0) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
-    else velocity_gradient_particle<K, Corrected, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
-}
-
-template <KernelKind K, bool Corrected, bool Failure>
-SPHFORGE_TARGET_AVX2 void velocity_gradient_avx2(const GradientArgs& g, double h) {
-  const PairKernel<K> kernel(h);
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i)
-    if (Failure && g.failure.failed[i] != 0.0) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
-    else velocity_gradient_particle<K, Corrected, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
-}
-
-template <KernelKind K, bool Corrected, bool Failure>
 void velocity_gradient_run(const GradientArgs& g, double h) {
-  if (pair_loops_use_avx2()) velocity_gradient_avx2<K, Corrected, Failure>(g, h);
-  else velocity_gradient_generic<K, Corrected, Failure>(g, h);
+  const PairKernel<K> kernel(h);
+  for_each_particle(g.n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
+    if (Failure && g.failure.failed[i] != 0.0) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
+    else velocity_gradient_particle<K, Corrected, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
+  });
 }
 
 template <KernelKind K, bool Corrected>
@@ -153,6 +134,7 @@ void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, 
 struct MomentumArgs {
   const NeighbourList* nl;
   const double *x, *v, *m, *rho, *volume, *stress_c, *R;
+  const std::uint64_t* tension;  // mark_tension() of R; null: every particle may be under tension
   double* acc;
   std::size_t n;
   double h, eta2h2, alpha_c, beta, inv_w_dx, exponent;
@@ -251,18 +233,18 @@ SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKerne
   g.acc[3 * i + 2] = a2;
 }
 
-/// True when R (eq. 9) is 0 for particle i and all its neighbours. R is negative semidefinite, so
-/// it is 0 exactly when its trace is: its diagonal entries are sums of non-positive terms, and a
-/// nonzero principal value r_k puts at most r_k / 3 on some diagonal entry (unless |r_k| is so
-/// small that this underflows, when the term it would add is below round-off anyway).
-SPHFORGE_ALWAYS_INLINE bool no_tension_around(const double* R, std::size_t i, const std::uint32_t* nb,
+/// True when R (eq. 9) is 0 for particle i and all its neighbours, read from the bit set of
+/// mark_tension(). One bit per particle instead of R's trace (three doubles on a cache line of
+/// their own): the test reads 64 particles per word, and it vectorises (no early exit).
+SPHFORGE_ALWAYS_INLINE bool no_tension_around(const std::uint64_t* tension, std::size_t i, const std::uint32_t* nb,
                                               std::ptrdiff_t count) {
-  if (R[6 * i] + R[6 * i + 1] + R[6 * i + 2] != 0.0) return false;
-  for (std::ptrdiff_t k = 0; k < count; ++k) {  // stops at the first neighbour under tension
-    const std::size_t j = nb[k];
-    if (R[6 * j] + R[6 * j + 1] + R[6 * j + 2] != 0.0) return false;
+  std::uint64_t any = (tension[i >> 6] >> (i & 63)) & 1u;
+#pragma omp simd reduction(| : any)
+  for (std::ptrdiff_t k = 0; k < count; ++k) {
+    const std::uint32_t j = nb[k];
+    any |= (tension[j >> 6] >> (j & 63)) & 1u;
   }
-  return true;
+  return any == 0;
 }
 
 template <KernelKind K, int Exponent, bool Failure>
@@ -274,7 +256,7 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   // same order) and skips the six gathers of R_j per pair. The usual case in forming, where most
   // of the material is in compression: a scene pays for the artificial stress only where it acts.
   if constexpr (Exponent != 0) {
-    if (no_tension_around(g.R, i, list.indices, count)) {
+    if (g.tension && no_tension_around(g.tension, i, list.indices, count)) {
       momentum_sums<K, 0, Failure>(g, kernel, i, list.indices, count);
       return;
     }
@@ -283,27 +265,12 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
 }
 
 template <KernelKind K, int Exponent, bool Failure>
-void momentum_generic(const MomentumArgs& g) {
-  const PairKernel<K> kernel(g.h);
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i)
-    if (Failure && g.failure.failed[i] != 0.0) momentum_particle<K, Exponent, Failure>(g, kernel, i);
-    else momentum_particle<K, Exponent, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
-}
-
-template <KernelKind K, int Exponent, bool Failure>
-SPHFORGE_TARGET_AVX2 void momentum_avx2(const MomentumArgs& g) {
-  const PairKernel<K> kernel(g.h);
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::size_t i = 0; i < g.n; ++i)
-    if (Failure && g.failure.failed[i] != 0.0) momentum_particle<K, Exponent, Failure>(g, kernel, i);
-    else momentum_particle<K, Exponent, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
-}
-
-template <KernelKind K, int Exponent, bool Failure>
 void momentum_rate_run(const MomentumArgs& g) {
-  if (pair_loops_use_avx2()) momentum_avx2<K, Exponent, Failure>(g);
-  else momentum_generic<K, Exponent, Failure>(g);
+  const PairKernel<K> kernel(g.h);
+  for_each_particle(g.n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
+    if (Failure && g.failure.failed[i] != 0.0) momentum_particle<K, Exponent, Failure>(g, kernel, i);
+    else momentum_particle<K, Exponent, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
+  });
 }
 
 template <KernelKind K, int Exponent>
@@ -313,14 +280,23 @@ void momentum_rate_impl(const MomentumArgs& g) {
 }
 }  // namespace
 
-bool allow_avx2_pair_loops(bool allow) { return g_allow_avx2.exchange(allow); }
+PairLoopIsa limit_pair_loop_isa(PairLoopIsa limit) {
+  return static_cast<PairLoopIsa>(g_isa_limit.exchange(static_cast<int>(limit)));
+}
 
-bool pair_loops_use_avx2() {
+PairLoopIsa pair_loop_isa() {
 #if defined(__GNUC__) && defined(__x86_64__)
-  static const bool cpu_has_them = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return cpu_has_them && g_allow_avx2.load(std::memory_order_relaxed);
+  static const PairLoopIsa cpu_best = [] {
+    __builtin_cpu_init();
+    if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) return PairLoopIsa::generic;
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq"))
+      return PairLoopIsa::avx512vl;
+    return PairLoopIsa::avx2;
+  }();
+  return static_cast<PairLoopIsa>(
+      std::min(static_cast<int>(cpu_best), g_isa_limit.load(std::memory_order_relaxed)));
 #else
-  return false;
+  return PairLoopIsa::generic;
 #endif
 }
 
@@ -386,25 +362,26 @@ void jaumann_rotation(const double* L, double dt, double* S, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) {
     const double* l = L + 9 * i;
     // Spin Omega = (L - L^T)/2 and the Hughes-Winget (Cayley) rotation over the step,
-    // Q = (I - dt/2 Omega)^-1 (I + dt/2 Omega)   (eq. 6): exactly orthogonal, so a rigidly
-    // rotating stress keeps its invariants to round-off, and S + dt (Omega S - S Omega) to
-    // second order.
-    Eigen::Matrix3d half_w;
+    // Q = (I - W)^-1 (I + W), W = dt/2 Omega   (eq. 6): exactly orthogonal, so a rigidly rotating
+    // stress keeps its invariants to round-off, and S + dt (Omega S - S Omega) to second order.
+    // W is skew with axial vector w (W u = w x u), so W^2 = w w^T - |w|^2 I and the inverse has a
+    // closed form: Q = I + 2 (W + W^2) / (1 + |w|^2) (eq. 6a), without a 3x3 inversion.
+    const double w0 = 0.25 * dt * (l[7] - l[5]), w1 = 0.25 * dt * (l[2] - l[6]), w2 = 0.25 * dt * (l[3] - l[1]);
+    const double theta2 = w0 * w0 + w1 * w1 + w2 * w2, c = 2.0 / (1.0 + theta2);
+    const double q[3][3] = {{1.0 + c * (w0 * w0 - theta2), c * (w0 * w1 - w2), c * (w0 * w2 + w1)},
+                            {c * (w1 * w0 + w2), 1.0 + c * (w1 * w1 - theta2), c * (w1 * w2 - w0)},
+                            {c * (w2 * w0 - w1), c * (w2 * w1 + w0), 1.0 + c * (w2 * w2 - theta2)}};
+    double* s = S + 6 * i;
+    const double sm[3][3] = {{s[0], s[3], s[5]}, {s[3], s[1], s[4]}, {s[5], s[4], s[2]}};
+    double qs[3][3];  // Q S
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) half_w(a, b) = 0.25 * dt * (l[3 * a + b] - l[3 * b + a]);
-    const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
-    const Eigen::Matrix3d q = (identity - half_w).inverse() * (identity + half_w);
-    Eigen::Matrix3d s;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) s(a, b) = S[6 * i + kSym[a][b]];
-    const Eigen::Matrix3d rotated = q * s * q.transpose();
-    S[6 * i + 0] = rotated(0, 0);
-    S[6 * i + 1] = rotated(1, 1);
-    S[6 * i + 2] = rotated(2, 2);
-    // Off-diagonal terms averaged: the product is symmetric up to round-off.
-    S[6 * i + 3] = 0.5 * (rotated(0, 1) + rotated(1, 0));
-    S[6 * i + 4] = 0.5 * (rotated(1, 2) + rotated(2, 1));
-    S[6 * i + 5] = 0.5 * (rotated(0, 2) + rotated(2, 0));
+      for (int b = 0; b < 3; ++b) qs[a][b] = q[a][0] * sm[0][b] + q[a][1] * sm[1][b] + q[a][2] * sm[2][b];
+    // Q S Q^T is symmetric: its six entries xx yy zz xy yz xz
+    constexpr int kRow[6] = {0, 1, 2, 0, 1, 0}, kCol[6] = {0, 1, 2, 1, 2, 2};
+    for (int e = 0; e < 6; ++e) {
+      const int a = kRow[e], b = kCol[e];
+      s[e] = qs[a][0] * q[b][0] + qs[a][1] * q[b][1] + qs[a][2] * q[b][2];
+    }
   }
 }
 
@@ -420,9 +397,9 @@ void momentum_rate_kernel(const MomentumArgs& g, bool stress) {
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
                    const double* volume, const double* stress_c, const ArtificialStress& as, const double* R,
-                   double* acceleration, std::size_t n, const BondFailure& failure) {
+                   const std::uint64_t* tension, double* acceleration, std::size_t n, const BondFailure& failure) {
   const bool stress = R != nullptr && as.epsilon > 0.0;
-  const MomentumArgs g{&nl, x, v, mass, density, volume, stress_c, R, acceleration, n, h,
+  const MomentumArgs g{&nl, x, v, mass, density, volume, stress_c, R, tension, acceleration, n, h,
                        av.eta * av.eta * h * h, av.alpha * sound_speed, av.beta,
                        stress ? 1.0 / as.w_dx : 0.0, as.exponent, failure};
   if (kernel == KernelKind::WendlandC2) momentum_rate_kernel<KernelKind::WendlandC2>(g, stress);
@@ -458,6 +435,19 @@ void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R,
     out[3] = r(0, 1);
     out[4] = r(1, 2);
     out[5] = r(0, 2);
+  }
+}
+
+void mark_tension(const double* R, std::size_t count, std::uint64_t* tension) {
+  const std::size_t words = (count + 63) / 64;
+  // Each word is written by one thread: no atomics, and the set does not depend on the thread count.
+#pragma omp parallel for schedule(static)
+  for (std::size_t w = 0; w < words; ++w) {
+    std::uint64_t bits = 0;
+    const std::size_t first = 64 * w, end = std::min(count, first + 64);
+    for (std::size_t i = first; i < end; ++i)
+      bits |= static_cast<std::uint64_t>(R[6 * i] + R[6 * i + 1] + R[6 * i + 2] != 0.0) << (i - first);
+    tension[w] = bits;
   }
 }
 

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "engine/bond_failure.hpp"
 #include "engine/neighbours.hpp"
+#include "engine/pair_kernel.hpp"
 #include "sphforge/kernels.hpp"
 
 namespace sphforge {
@@ -16,9 +18,10 @@ struct ArtificialViscosity {
   double eta = 0.1;    ///< singularity guard, as a fraction of h
 };
 
-/// The pair passes run AVX2 + FMA loops where the CPU has them, else generic ones. For tests and
-/// benchmarks: false forces the generic loops (true restores the choice). Returns the old setting.
-bool allow_avx2_pair_loops(bool allow);
+/// The pair passes run the best of their generic, AVX2 + FMA and AVX-512VL loops that the CPU has
+/// (engine/pair_kernel.hpp). For tests and benchmarks: caps that choice (PairLoopIsa::generic forces
+/// the generic loops, PairLoopIsa::avx512vl restores the default). Returns the old cap.
+PairLoopIsa limit_pair_loop_isa(PairLoopIsa limit);
 
 /// Particle volume V_i = m_i / rho_i.
 void particle_volume(const double* mass, const double* density, double* volume, std::size_t n);
@@ -62,6 +65,14 @@ struct ArtificialStress {
 /// are written.
 void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R, std::size_t n);
 
+/// The particles under principal tension, as a bit set for momentum_rate(): bit i of tension[i / 64]
+/// (words of 64 particles, (count + 63) / 64 of them) is set where R_i != 0 (eq. 9). R is negative
+/// semidefinite, so it is 0 exactly when its trace is: its diagonal entries are sums of non-positive
+/// terms, and a nonzero principal value r_k puts at most r_k / 3 on some diagonal entry (unless
+/// |r_k| is so small that this underflows, when the term it would add is below round-off anyway).
+/// count covers every point a neighbour list may name (symmetry ghosts included).
+void mark_tension(const double* R, std::size_t count, std::uint64_t* tension);
+
 /// Momentum equation in the variationally consistent corrected form (theory eqs. 7-9):
 /// a_i = 1/rho_i sum_j V_j (A_i + A_j) . grad_i W_ij  +  sum_j m_j [f_ij^n (R_i + R_j) - Pi_ij I] . grad_i W_ij
 /// with A = sigma C from corrected_stress(), Monaghan viscosity Pi_ij and, when R is given, the
@@ -70,10 +81,14 @@ void artificial_stress(const double* sigma_over_rho2, double epsilon, double* R,
 /// antisymmetric (linear momentum exact), angular momentum is exact wherever the correction holds
 /// (sum_j V_j x_ij (x) C grad W = -I and sigma symmetric), and the work of the internal forces
 /// equals the stress power (energy consistency). `failure` (default: none): broken bonds under tension
-/// carry no stress and no artificial stress, the viscosity stays (eq. 114).
+/// carry no stress and no artificial stress, the viscosity stays (eq. 114). `tension`: mark_tension()
+/// of R; a particle with no tension bit on itself and its neighbours runs its sum without the
+/// artificial stress (its terms are exact zeros there; same sums to the bit). Null: every sum has
+/// the term.
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
                    const double* volume, const double* stress_c, const ArtificialStress& as, const double* R,
-                   double* acceleration, std::size_t n, const BondFailure& failure = {});
+                   const std::uint64_t* tension, double* acceleration, std::size_t n,
+                   const BondFailure& failure = {});
 
 }  // namespace sphforge
