@@ -163,3 +163,30 @@ TEST(ArtificialStress, TensionFreeNeighbourhoodsGiveTheSumsWithoutItBitForBit) {
   // Pairs in the 2.1 h list but beyond the 2 h support carry no term; all others do.
   EXPECT_GT(changed, near_count / 2);
 }
+
+// mark_tension() sets exactly the bits of the particles with R != 0, over a count that is not a
+// multiple of 64 (the last word partly used, its high bits clear), and from the artificial
+// stress's own output: particles in compression only get R = 0, those with a tensile principal
+// stress a nonzero, negative semidefinite R, whose trace is then nonzero.
+TEST(ArtificialStress, TensionBitsMarkExactlyTheParticlesWithNonzeroR) {
+  const std::size_t n = 130;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> p(n), S(6 * n, 0.0), rho(n, 1000.0), R(6 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    // every third particle in tension (negative pressure), the others compressed with a small shear
+    p[i] = i % 3 == 0 ? -1e6 * (1.0 + 0.5 * u(rng)) : 1e6 * (1.0 + 0.5 * u(rng));
+    S[6 * i + 3] = 1e4 * u(rng);
+  }
+  stress_over_density_squared(p.data(), S.data(), rho.data(), R.data(), n);
+  artificial_stress(R.data(), 0.3, R.data(), n);
+  std::vector<std::uint64_t> bits(3, ~std::uint64_t{0});  // garbage in: every word must be written
+  mark_tension(R.data(), n, bits.data());
+  for (std::size_t i = 0; i < n; ++i) {
+    bool nonzero = false;
+    for (int c = 0; c < 6; ++c) nonzero = nonzero || R[6 * i + c] != 0.0;
+    EXPECT_EQ(nonzero, i % 3 == 0) << "particle " << i;
+    EXPECT_EQ((bits[i / 64] >> (i % 64)) & 1u, nonzero ? 1u : 0u) << "particle " << i;
+  }
+  EXPECT_EQ(bits[2] >> (n - 128), 0u) << "bits beyond the last particle";
+}
