@@ -1,5 +1,5 @@
-// Validation (label `validation`, not run in CI: about 85 minutes on one loaded core, 29 on two idle ones; 12,000
-// particles and 51,577 steps): the oscillating plate of cases/verification/oscillating_plate.json at
+// Validation (label `validation`, not run in CI: about 85 minutes on one loaded core, 29 on two idle
+// ones; 12,000 particles and 51,577 steps): the oscillating plate of cases/verification/oscillating_plate.json at
 // H/10 (dx = 2 mm) with the second-order gradient correction (theory section 18), two periods.
 // Target (issue 3, verification item 3): the period within 5 % of the Euler-Bernoulli value
 // 0.27684 s. The 5 % is the issue's, not a tuned bound. Measured 2026-11-30: 0.2898 s, +4.67 %
