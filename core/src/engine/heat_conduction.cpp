@@ -11,9 +11,9 @@ namespace sphforge {
 
 namespace {
 
-// The two pair passes follow the scheme of engine/sph_operators.cpp: a per-particle function
-// whose neighbour loop is written for `omp simd` (decoded list, scalar accumulator, no branch),
-// run by a generic driver and by one compiled for AVX2 + FMA, chosen at run time.
+// The two pair passes follow the scheme of engine/pair_kernel.hpp: a per-particle function whose
+// neighbour loop is written for `omp simd` (decoded list, scalar accumulator, no branch), run over
+// all particles by for_each_particle() in the best instance the CPU has.
 
 template <KernelKind K>
 SPHFORGE_PAIR_INLINE double conduction_particle(const NeighbourList& nl, const PairKernel<K>& kernel, double eta2,
@@ -58,27 +58,22 @@ SPHFORGE_PAIR_INLINE double surface_area_particle(const NeighbourList& nl, const
   return 2.0 * volume[i] * std::sqrt(g0 * g0 + g1 * g1 + g2 * g2);  // eq. 22
 }
 
-struct HeatArgs {
-  const NeighbourList* nl;
-  double h;
-  const double *x, *volume, *T, *k;
-  double* out;
-  std::size_t n;
-};
-
 template <KernelKind K>
-void heat_conduction_impl(const HeatArgs& a) {
-  const PairKernel<K> kernel(a.h);
-  const double eta2 = 0.01 * a.h * a.h;  // keeps the 1/r^2 finite for coincident particles (eq. 20)
-  for_each_particle(a.n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
-    a.out[i] += conduction_particle<K>(*a.nl, kernel, eta2, a.x, a.volume, a.T, a.k, i);
+void heat_conduction_impl(const NeighbourList& nl, double h, const double* x, const double* volume, const double* T,
+                          const double* k, double* heat_W, std::size_t n) {
+  const PairKernel<K> kernel(h);
+  const double eta2 = 0.01 * h * h;  // keeps the 1/r^2 finite for coincident particles (eq. 20)
+  for_each_particle(n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
+    heat_W[i] += conduction_particle<K>(nl, kernel, eta2, x, volume, T, k, i);
   });
 }
+
 template <KernelKind K>
-void surface_area_impl(const HeatArgs& a) {
-  const PairKernel<K> kernel(a.h);
-  for_each_particle(a.n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
-    a.out[i] = surface_area_particle<K>(*a.nl, kernel, a.x, a.volume, i);
+void surface_area_impl(const NeighbourList& nl, double h, const double* x, const double* volume, double* area,
+                       std::size_t n) {
+  const PairKernel<K> kernel(h);
+  for_each_particle(n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
+    area[i] = surface_area_particle<K>(nl, kernel, x, volume, i);
   });
 }
 
@@ -86,16 +81,18 @@ void surface_area_impl(const HeatArgs& a) {
 
 void heat_conduction(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* volume,
                      const double* temperature, const double* conductivity, double* heat_W, std::size_t n) {
-  const HeatArgs a{&nl, h, x, volume, temperature, conductivity, heat_W, n};
-  if (kernel == KernelKind::WendlandC2) heat_conduction_impl<KernelKind::WendlandC2>(a);
-  else heat_conduction_impl<KernelKind::CubicSpline>(a);
+  if (kernel == KernelKind::WendlandC2)
+    heat_conduction_impl<KernelKind::WendlandC2>(nl, h, x, volume, temperature, conductivity, heat_W, n);
+  else
+    heat_conduction_impl<KernelKind::CubicSpline>(nl, h, x, volume, temperature, conductivity, heat_W, n);
 }
 
 void surface_area(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* volume,
                   double* area, std::size_t n) {
-  const HeatArgs a{&nl, h, x, volume, nullptr, nullptr, area, n};
-  if (kernel == KernelKind::WendlandC2) surface_area_impl<KernelKind::WendlandC2>(a);
-  else surface_area_impl<KernelKind::CubicSpline>(a);
+  if (kernel == KernelKind::WendlandC2)
+    surface_area_impl<KernelKind::WendlandC2>(nl, h, x, volume, area, n);
+  else
+    surface_area_impl<KernelKind::CubicSpline>(nl, h, x, volume, area, n);
 }
 
 void convection(const double* coefficient, const double* area, const double* temperature, double ambient,
