@@ -1229,32 +1229,31 @@ void Simulation::step() {
 
   if (mechanical_count_ > 0) mechanics_rates();
   if (settings_.thermal.enabled) thermal_rates();
-  // Prescribed velocities do work on the bodies (a piston pushing a bar); the energy ledger of
-  // check_stability() counts it like the tools' work: the kinetic energy the constraints add to
-  // the velocities the integrator would have given, sum m (|v_c|^2 - |v + dt a|^2) / 2.
+  // Prescribed velocities do work on the bodies (a piston pushing a bar), and they move the centre
+  // of the constrained particles' step that the internal energy was booked with (eq. 27a): keep
+  // v + dt a and a as the integrator would have had them.
   const std::size_t nm = process_->constrains_velocities() ? mechanical_count_ : 0;
-  const double* v = nm > 0 ? fields_.f64(field::velocity) : nullptr;
-  const double* a = nm > 0 ? fields_.f64(field::acceleration) : nullptr;
+  double* v = nm > 0 ? fields_.f64(field::velocity) : nullptr;
+  double* a = nm > 0 ? fields_.f64(field::acceleration) : nullptr;
   if (nm > 0) {
-    constrained_scratch_.resize(3 * nm);
+    constrained_scratch_.resize(6 * nm);
+    double* predicted = constrained_scratch_.data();
+    double* total = predicted + 3 * nm;
 #pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < 3 * nm; ++i) constrained_scratch_[i] = v[i] + dt_ * a[i];
+    for (std::size_t i = 0; i < 3 * nm; ++i) {
+      predicted[i] = v[i] + dt_ * a[i];
+      total[i] = a[i];
+    }
   }
   process_->apply_constraints(ctx);
   if (nm > 0) {
-    const double* m = fields_.f64(field::mass);
-    double added = 0.0;
-#pragma omp parallel for reduction(+ : added) schedule(static)
-    for (std::size_t i = 0; i < nm; ++i) {
-      double before = 0.0, after = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        const double vc = v[3 * i + d] + dt_ * a[3 * i + d];
-        before += constrained_scratch_[3 * i + d] * constrained_scratch_[3 * i + d];
-        after += vc * vc;
-      }
-      added += 0.5 * m[i] * (after - before);
-    }
-    constraint_work_J_ += added;
+    const double body_scaled[3] = {body_now_[0] / settings_.mass_scaling, body_now_[1] / settings_.mass_scaling,
+                                   body_now_[2] / settings_.mass_scaling};
+    const ConstraintEnergy e =
+        constraint_energy(fields_.f64(field::mass), constrained_scratch_.data(), constrained_scratch_.data() + 3 * nm,
+                          v, a, body_scaled, tools_.empty() ? nullptr : fields_.f64(field::contact_force), dt_, nm);
+    constraint_work_J_ += e.work_J;
+    internal_energy_ += e.internal_energy_correction_J;
   }
   integrate();
   if (mechanical_count_ > 0 && body_now_.squaredNorm() > 0.0) {

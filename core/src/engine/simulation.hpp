@@ -181,7 +181,7 @@ class Simulation {
   double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
   double domain_margin_used_m_ = 0.0;
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
-  /// Kinetic energy the process's constraints (prescribed velocities) put in, summed over the steps:
+  /// Work the process's constraints (prescribed velocities) did, summed over the steps (eq. 27a):
   /// part of the energy ledger of the instability check, like the tools' work.
   double constraint_work_J_ = 0.0;
   /// Work of the body force (eq. 47), also part of the energy ledger.
@@ -192,7 +192,7 @@ class Simulation {
   double body_angular_frequency_ = 0.0;                          ///< rad/s
   std::vector<const ContactLaw*> tool_laws_;  ///< friction law of each tool
   double contact_time_s_ = 0.0;               ///< wall time spent in the contact pass
-  std::vector<double> constrained_scratch_;  ///< v + dt a before the constraints (3 per particle)
+  std::vector<double> constrained_scratch_;  ///< v + dt a and a before the constraints (6 per particle)
   double time_ = 0.0, dt_ = 0.0, dt_initial_ = 0.0, dt_cfl_ = 0.0, dt_contact_ = 0.0;
   long long step_ = 0;
   std::size_t contacts_ = 0;

@@ -39,6 +39,7 @@ class FrictionDrilling final : public Process {
     thickness_ = p.number("sheet_thickness");
     spacing_ = p.number("particle_spacing");
     clamp_width_ = p.number("clamp_width");
+    clamp_temperature_ = p.number("clamp_temperature");
     feed_ = p.number("feed_rate");
     speed_ = p.number("rotation_speed");
     stroke_ = p.number("stroke");
@@ -182,6 +183,13 @@ class FrictionDrilling final : public Process {
         a[3 * i + d] = 0.0;
       }
     }
+    // A clamp held at a given temperature (eq. 121a): the rim relaxes onto it within each step.
+    double* dT = clamp_temperature_ > 0.0 ? f.f64_if(field::temperature_rate) : nullptr;
+    if (dT && ctx.dt_s > 0.0) {
+      const double* T = f.f64(field::temperature);
+      for (std::size_t i = 0; i < n; ++i)
+        if (clamped[i]) dT[i] = (clamp_temperature_ - T[i]) / ctx.dt_s;
+    }
   }
 
   void measure(ProcessContext& ctx) override {
@@ -320,6 +328,7 @@ class FrictionDrilling final : public Process {
 
   // Parameters.
   double radius_ = 0.0, thickness_ = 0.0, spacing_ = 0.0, clamp_width_ = 0.0, stroke_ = 0.0, gap_ = 0.0;
+  double clamp_temperature_ = -1.0;
   double drill_body_length_ = 0.0, probe_radius_ = 0.0, band_inner_ = 0.0, band_outer_ = 0.0;
   double drill_radius_ = 0.0;
   bool drill_body_ = true;
@@ -354,6 +363,9 @@ const PluginDescriptor& descriptor() {
           ParamSpec::number("sheet_thickness", "m", 1.2e-3, "sheet thickness t (upper surface at z = 0)", 1e-6),
           ParamSpec::number("particle_spacing", "m", std::nullopt, "lattice spacing dx of the sheet and the drill body", 1e-7),
           ParamSpec::number("clamp_width", "m", 0.5e-3, "width of the fixed rim ring at the sheet's edge (eq. 121)", 0.0),
+          ParamSpec::number("clamp_temperature", "K", -1.0,
+                            "temperature the clamped rim is held at (a heat sink, eq. 121a); -1: the rim is "
+                            "clamped mechanically only and conducts like the rest of the sheet"),
           ParamSpec::number("feed_rate", "m/s", 50e-3 / 60.0,
                             "initial value of the command drill_feed_rate (downwards, physical; x time_scaling)", 0.0),
           ParamSpec::number("rotation_speed", "rad/s", 5800.0 * 2.0 * std::numbers::pi / 60.0,

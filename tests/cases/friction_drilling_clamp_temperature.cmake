@@ -1,0 +1,38 @@
+# CTest (label `integration`): the friction_drilling option `clamp_temperature` (theory eq. 121a) holds
+# the clamped rim at its temperature. The quick case starts at 400 K everywhere (thermal.initial_temperature)
+# and runs 40 microseconds of simulated time (4 ms of process time; the drill touches nothing yet): with
+# the rim held at 293.15 K the coldest particle is at 293.15 K (to 1e-6 K: the relaxation is exact within a
+# step), without the option it stays at 400 K (only convection, 5 W/m2K over microseconds, cools the sheet:
+# by far less than 0.01 K).
+# Invoked as: cmake -DSPHFORGE=... -DCASES=<source>/cases/friction_drilling -DOUT=<dir> -P friction_drilling_clamp_temperature.cmake
+
+function(coldest out_var label)
+  execute_process(COMMAND "${SPHFORGE}" run "${CASES}/hx220_m4_quick.json" --out "${OUT}/${label}" --force --quiet
+                          --set "thermal.initial_temperature=400 K" --set "run.end_time=4e-5 s"
+                          --set "run.history_interval=1e-5 s" ${ARGN}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "sphforge run (${label}): exit ${rc}\n${out}${err}")
+  endif()
+  file(STRINGS "${OUT}/${label}/history.csv" lines)
+  list(GET lines 0 header)
+  list(GET lines -1 last)
+  string(REPLACE "," ";" header "${header}")
+  string(REPLACE "," ";" last "${last}")
+  list(FIND header temperature_min_K column)
+  if(column LESS 0)
+    message(FATAL_ERROR "history.csv has no temperature_min_K")
+  endif()
+  list(GET last ${column} value)
+  set(${out_var} ${value} PARENT_SCOPE)
+endfunction()
+
+coldest(held held --set "process.clamp_temperature=293.15 K")
+coldest(free free)
+message(STATUS "coldest particle: rim held at 293.15 K: ${held} K; rim free: ${free} K")
+if(held LESS 293.149999 OR held GREATER 293.150001)
+  message(FATAL_ERROR "with clamp_temperature 293.15 K the coldest particle is at ${held} K")
+endif()
+if(free LESS 399.99)
+  message(FATAL_ERROR "without clamp_temperature the coldest particle cooled to ${free} K")
+endif()
