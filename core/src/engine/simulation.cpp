@@ -71,6 +71,9 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::object("artificial_stress", "Gray-Monaghan-Swift artificial stress against tensile instability"),
       ParamSpec::number("neighbour_skin", "1", 0.1,
                         "Verlet skin as a fraction of h: lists are rebuilt when a particle moved skin/2", 0.0, 2.0),
+      ParamSpec::number("thermal_neighbour_skin", "1", -1.0,
+                        "Verlet skin of the thermal lists (scenes with thermal-only bodies), fraction of h; -1: "
+                        "neighbour_skin. Thicker when attached bodies turn fast (theory section 7)", -1.0, 2.0),
       ParamSpec::number("mass_scaling", "1", 1.0,
                         "factor on every particle's inertia (theory eq. 24); check kinetic_to_internal_ratio_1", 1.0,
                         1e12),
@@ -329,6 +332,9 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.h_over_dx = numerics.number("h_over_dx");
   settings_.cfl = numerics.number("cfl");
   settings_.neighbour_skin = numerics.number("neighbour_skin");
+  settings_.thermal_neighbour_skin = numerics.number("thermal_neighbour_skin") >= 0.0
+                                        ? numerics.number("thermal_neighbour_skin")
+                                        : settings_.neighbour_skin;
   settings_.domain_margin_m = numerics.number("domain_margin");
   settings_.gradient_correction = numerics.boolean("gradient_correction");
   settings_.second_order_gradient = numerics.string("gradient_correction_order") == "second";
@@ -1111,7 +1117,8 @@ void Simulation::thermal_rates() {
   const Symmetry& ghosts = sym && mechanical_count_ < n ? thermal_symmetry_ : symmetry_;
   const double* xe = x;
   if (mechanical_count_ < n) {
-    const double search = kernel_support_radius(h_), skin = settings_.neighbour_skin * h_;
+    // Own skin (theory section 7): a tool's attached body can move more per step than the workpiece.
+    const double search = kernel_support_radius(h_), skin = settings_.thermal_neighbour_skin * h_;
     const bool rebuild = thermal_lists_stale_ || thermal_neighbours_.needs_rebuild(x, n, search, skin);
     if (sym) {
       if (rebuild) thermal_symmetry_.select(x, n, search + skin);

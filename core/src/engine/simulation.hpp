@@ -25,6 +25,7 @@ struct CoreSettings {
   double h_over_dx = 1.3;
   double cfl = 0.3;
   double neighbour_skin = 0.2;  ///< Verlet skin, fraction of h
+  double thermal_neighbour_skin = 0.2;  ///< Verlet skin of the thermal lists, fraction of h (theory section 7)
   double domain_margin_m = -1.0;  ///< beyond the initial box: instability (-1: the box's size)
   bool gradient_correction = true;
   bool second_order_gradient = false;  ///< numerics.gradient_correction_order = "second" (section 18)
