@@ -1,4 +1,4 @@
-// Energy ledger with velocity constraints (docs/theory.md eqs. 27, 27a; docs/verification.md 3a).
+// Energy ledger with velocity constraints (docs/theory.md eqs. 27, 27a; docs/verification.md 5a).
 //
 // The oscillating plate (cases/verification/oscillating_plate.json, 5 mm, 768 particles) is clamped at
 // its root by a zero-velocity region of the generic process and released with the first-mode

@@ -1088,9 +1088,8 @@ void Simulation::mechanics_rates() {
   // Internal energy: the work done against the internal forces (elastic storage, plastic and
   // viscous dissipation) with the step-centred velocity of the total acceleration, so that the
   // energy balance closes to round-off for a free body and stays unbiased against walls (eq. 27).
-  const double body_scaled[3] = {body_now_[0] / settings_.mass_scaling, body_now_[1] / settings_.mass_scaling,
-                                 body_now_[2] / settings_.mass_scaling};
-  internal_energy_ += internal_work(m, v, a, body_scaled, tools_.empty() ? nullptr : fc, dt_, n);
+  const Eigen::Vector3d body_scaled = body_now_ / settings_.mass_scaling;
+  internal_energy_ += internal_work(m, v, a, body_scaled.data(), tools_.empty() ? nullptr : fc, dt_, n);
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double inv_m = 1.0 / m[i];
@@ -1240,8 +1239,8 @@ void Simulation::step() {
   // of the constrained particles' step that the internal energy was booked with (eq. 27a): keep
   // v + dt a and a as the integrator would have had them.
   const std::size_t nm = process_->constrains_velocities() ? mechanical_count_ : 0;
-  double* v = nm > 0 ? fields_.f64(field::velocity) : nullptr;
-  double* a = nm > 0 ? fields_.f64(field::acceleration) : nullptr;
+  const double* v = nm > 0 ? fields_.f64(field::velocity) : nullptr;
+  const double* a = nm > 0 ? fields_.f64(field::acceleration) : nullptr;
   if (nm > 0) {
     constrained_scratch_.resize(6 * nm);
     double* predicted = constrained_scratch_.data();
@@ -1254,11 +1253,10 @@ void Simulation::step() {
   }
   process_->apply_constraints(ctx);
   if (nm > 0) {
-    const double body_scaled[3] = {body_now_[0] / settings_.mass_scaling, body_now_[1] / settings_.mass_scaling,
-                                   body_now_[2] / settings_.mass_scaling};
-    const ConstraintEnergy e =
-        constraint_energy(fields_.f64(field::mass), constrained_scratch_.data(), constrained_scratch_.data() + 3 * nm,
-                          v, a, body_scaled, tools_.empty() ? nullptr : fields_.f64(field::contact_force), dt_, nm);
+    const Eigen::Vector3d body_scaled = body_now_ / settings_.mass_scaling;
+    const ConstraintEnergy e = constraint_energy(
+        fields_.f64(field::mass), constrained_scratch_.data(), constrained_scratch_.data() + 3 * nm, v, a,
+        body_scaled.data(), tools_.empty() ? nullptr : fields_.f64(field::contact_force), dt_, nm);
     constraint_work_J_ += e.work_J;
     internal_energy_ += e.internal_energy_correction_J;
   }
