@@ -49,6 +49,7 @@ bool reset_peak_rss() {
 
 void BM_WholeStep(benchmark::State& state) {
   const long long steps = state.range(0);
+  const bool density_diffusion = state.range(1) != 0;
   const fs::path dir = fs::temp_directory_path() / ("sphforge_bench_step_" + std::to_string(::getpid()));
   const std::string case_file = std::string(SPHFORGE_SOURCE_DIR) + "/cases/ram_extrusion/paste_orifice_quick.json";
   // 15 mm barrel, 15 mm billet, 0.3 mm spacing: 94,550 particles.
@@ -57,6 +58,9 @@ void BM_WholeStep(benchmark::State& state) {
       "process.particle_spacing=0.3 mm", "controllers.0.value=0.02 m/s",
       "run.end_time=100 s",              "run.output_interval=100 s",   "run.history_interval=100 s",
       "run.max_steps=" + std::to_string(steps)};
+  // The optional delta-SPH term (theory eq. 4a) at its usual delta, for its cost in the same run.
+  std::vector<std::string> case_overrides = overrides;
+  if (density_diffusion) case_overrides.push_back("numerics.density_diffusion=0.1");
   PluginLoader loader({SPHFORGE_PLUGIN_BUILD_DIR});
   double particles = 0.0, bytes = 0.0, field_bytes = 0.0, list_bytes = 0.0, pairs = 0.0, builds = 0.0;
   double rss_growth = -1.0, wide = 0.0;
@@ -67,7 +71,7 @@ void BM_WholeStep(benchmark::State& state) {
     // built: libraries, plugins and the allocator's earlier pools are not the particles').
     const double rss_before = proc_status_bytes("VmRSS:");
     const bool peak_reset = reset_peak_rss();
-    Simulation sim(load_case(case_file, overrides), loader);
+    Simulation sim(load_case(case_file, case_overrides), loader);
     const auto result = sim.run(dir, ProgressMode::Quiet);
     if (result.exit_code != 0) {
       state.SkipWithError(("run failed: " + result.message).c_str());
@@ -112,6 +116,7 @@ void BM_WholeStep(benchmark::State& state) {
 }
 
 // items_per_second = particle-steps per second of the whole step loop.
-BENCHMARK(BM_WholeStep)->Arg(60)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
+// Second argument: 1 with density diffusion (theory eq. 4a), 0 without.
+BENCHMARK(BM_WholeStep)->Args({60, 0})->Args({60, 1})->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
 
 }  // namespace

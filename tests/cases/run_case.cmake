@@ -1,9 +1,15 @@
 # Shared part of the bundled-case CTests (label `cases`), included by each tests/cases/<case>.cmake:
 # runs `sphforge run CASE --out OUT` (OUT is a folder inside the build tree, owned by the test) and
 # reads summary.json into `summary`, `status`, `ratio` (kinetic_to_work_ratio_max) and `wall`.
-# Invoked as: cmake -DSPHFORGE=... -DCASE=... -DOUT=... -P <case>.cmake
+# Invoked as: cmake -DSPHFORGE=... -DCASE=... -DOUT=... [-DEXTRA_ARGS="--set|key=value|..."] -P <case>.cmake
+# (EXTRA_ARGS: more arguments of `sphforge run`, separated by |).
 file(REMOVE_RECURSE "${OUT}")
+set(extra_args "")
+if(DEFINED EXTRA_ARGS)
+  string(REPLACE "|" ";" extra_args "${EXTRA_ARGS}")
+endif()
 execute_process(COMMAND "${CMAKE_COMMAND}" -E env OMP_WAIT_POLICY=PASSIVE "${SPHFORGE}" run "${CASE}" --out "${OUT}" --quiet
+                        ${extra_args}
                 RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "sphforge run ${CASE} exited with ${rc}")

@@ -709,6 +709,23 @@ TEST_F(Cli, CheckAcceptsTheSecondOrderGradientAndRejectsBadCombinations) {
   EXPECT_TRUE(contains(sym.err, "/numerics/gradient_correction_order")) << sym.err;
 }
 
+TEST_F(Cli, DensityDiffusionIsAPassOnlyWhenOnAndNeedsOneMaterial) {
+  // numerics.density_diffusion (docs/theory.md eq. 4a): the paste cases set 0.1, so the quick case
+  // lists the pass; 0 removes it; two mechanical materials are refused with the pointer.
+  const Result on = run({"check", kQuickCase});
+  ASSERT_EQ(on.code, 0) << describe(on);
+  EXPECT_TRUE(contains(on.out, "  density_diffusion\n")) << on.out;
+  const Result off = run({"check", kQuickCase, "--set", "numerics.density_diffusion=0"});
+  ASSERT_EQ(off.code, 0) << describe(off);
+  EXPECT_FALSE(contains(off.out, "density_diffusion")) << off.out;
+  const std::string series = std::string(SPHFORGE_SOURCE_DIR) + "/cases/verification/two_material_series.json";
+  const Result two = run({"check", series, "--set", "process.bodies.0.mechanics=true", "--set",
+                          "process.bodies.1.mechanics=true", "--set", "numerics.density_diffusion=0.1"});
+  EXPECT_EQ(two.code, 2) << describe(two);
+  EXPECT_TRUE(contains(two.err, "/numerics/density_diffusion")) << two.err;
+  EXPECT_TRUE(contains(two.err, "needs one material for all mechanical bodies; this case has 2")) << two.err;
+}
+
 TEST_F(Cli, CheckClipsTheSceneToTheSymmetryRegionAndRejectsBadSymmetry) {
   // numerics.symmetry (docs/theory.md section 11): a 90 deg sector keeps a quarter of the particles
   // of the verification cylinder (3792); unsupported settings are input errors with a pointer.

@@ -44,6 +44,7 @@ std::vector<Simulation::MemoryItem> Simulation::memory_breakdown() const {
   items.push_back({"physical density scratch (mass scaling)", held(physical_density_)});
   items.push_back({"constraint scratch", held(constrained_scratch_)});
   items.push_back({"xsph scratch", held(xsph_scratch_)});
+  items.push_back({"density diffusion scratch (g, rate)", held(density_gradient_) + held(diffusion_rate_)});
   items.push_back({"symmetry extended arrays", held(ext_x_) + held(ext_v_) + held(ext_m_) + held(ext_rho_) +
                                                    held(ext_T_) + held(ext_thermal_x_)});
   std::size_t ghosts = 0;

@@ -18,6 +18,7 @@
 #include "engine/reorder.hpp"
 #include "engine/second_order_gradient.hpp"
 #include "engine/tool_heat.hpp"
+#include "engine/density_diffusion.hpp"
 #include "engine/xsph.hpp"
 #include "io/output_writers.hpp"
 #include "io/particle_dump.hpp"
@@ -85,6 +86,11 @@ const ParamSpecs& numerics_specs() {
                         "as unstable (-1: the box's own size, at least 100 spacings); raise it for long extrudates",
                         -1.0),
       ParamSpec::number("xsph", "1", 0.0, "XSPH velocity smoothing epsilon (theory eq. 19; 0: off)", 0.0, 1.0),
+      ParamSpec::number("density_diffusion", "1", 0.0,
+                        "delta-SPH density diffusion delta (theory eq. 4a; 0: off; 0.1 is the usual value): "
+                        "damps the density noise the continuity equation accumulates in long, nearly "
+                        "incompressible flows",
+                        0.0, 1.0),
       ParamSpec::object("symmetry",
                         "mirror planes and/or a rotationally periodic sector about z: only the particles inside "
                         "are simulated, their images across the cuts are ghosts (theory section 11)"),
@@ -364,6 +370,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   settings_.mass_scaling = mass_scaling;
   settings_.time_scaling = numerics.number("time_scaling");
   settings_.xsph = numerics.number("xsph");
+  settings_.density_diffusion = numerics.number("density_diffusion");
   if (numerics.has("symmetry") && numerics.raw("symmetry").is_object()) {
     const ParamValues sym = numerics.sub("symmetry", symmetry_specs());
     if (sym.has("mirror_planes") && sym.raw("mirror_planes").is_array())
@@ -547,12 +554,21 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     passes_.push_back({"neighbour_search", {position}, {}});
     passes_.push_back({settings_.second_order_gradient ? "velocity_gradient_second_order" : "velocity_gradient",
                        {position, velocity, mass, density}, gradient_writes});
-    passes_.push_back({"continuity", {grad_v, density}, {density}});
-    passes_.push_back({"jaumann_rotation", {grad_v}, {stress}});
+    // The materials of the mechanical bodies, each once.
     std::vector<std::size_t> used;
     for (std::size_t b = 0; b < builder.bodies.size(); ++b)
       if (builder.bodies[b].mechanics && std::find(used.begin(), used.end(), body_material[b]) == used.end())
         used.push_back(body_material[b]);
+    if (settings_.density_diffusion > 0.0) {
+      // Eq. 4a diffuses rho_j - rho_i between neighbours: meaningful within one material only.
+      if (used.size() > 1)
+        throw InputError(file, "/numerics/density_diffusion",
+                         "density diffusion (eq. 4a) needs one material for all mechanical bodies; this case has " +
+                             std::to_string(used.size()));
+      passes_.push_back({"density_diffusion", {position, mass, density}, {}});
+    }
+    passes_.push_back({"continuity", {grad_v, density}, {density}});
+    passes_.push_back({"jaumann_rotation", {grad_v}, {stress}});
     for (std::size_t mat : used) {
       std::vector<FieldInfo> material_reads = {grad_v, density}, material_writes = {stress, pressure};
       if (settings_.thermal.enabled) {
@@ -912,10 +928,28 @@ void Simulation::output_velocity_gradient(std::vector<double>& density_rate, std
   double* volume = scratch_.data();
   double* correction = settings_.gradient_correction ? volume + nt : nullptr;
   double* second_b = settings_.second_order_gradient ? volume + (per - 54) * nt : nullptr;
-  particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
+  const double* rho_e = sym ? extend(ext_rho_, rho, 1) : rho;
+  particle_volume(me, rho_e, volume, nt);
+  const BondFailure failure = bond_failure_inputs(n);
   velocity_gradient_pass(xe, ve, volume, correction, second_b, L, condition.empty() ? nullptr : condition.data(), n,
-                         bond_failure_inputs(n));
+                         failure);
   continuity_density_rate(L, rho, drho, n);
+  if (settings_.density_diffusion > 0.0) density_diffusion_pass(xe, rho_e, volume, correction, drho, n, failure);
+}
+
+// Eqs. 4a-4b: the corrected density gradient of the real particles, the ghosts' by symmetry (a
+// gradient transforms as a vector, eq. 31), then the diffusive rate added to drho.
+void Simulation::density_diffusion_pass(const double* xe, const double* rho_e, const double* volume,
+                                        const double* correction, double* drho, std::size_t n,
+                                        const BondFailure& failure) {
+  const bool sym = symmetry_.active();
+  const std::size_t nt = sym ? n + symmetry_.ghost_count() : n;
+  density_gradient_.resize(3 * nt);
+  density_gradient(neighbours_, settings_.kernel, h_, xe, rho_e, volume, correction, density_gradient_.data(), n,
+                   failure);
+  if (sym) symmetry_.fill_vectors(density_gradient_.data(), n);
+  add_density_diffusion(neighbours_, settings_.kernel, h_, settings_.density_diffusion, wave_speed_, xe, rho_e, volume,
+                        density_gradient_.data(), drho, n, failure);
 }
 
 void Simulation::mechanics_rates() {
@@ -985,9 +1019,15 @@ void Simulation::mechanics_rates() {
   double* second_b = second ? volume + (1 + shared_c_r + (stress_c_in_l ? 0 : 9)) * nt : nullptr;
   double* stress_b = second ? second_b + 27 * nt : nullptr;
   // V = m / rho of the step's start; a ghost's volume is its source's (eq. 31).
-  particle_volume(me, sym ? extend(ext_rho_, rho, 1) : rho, volume, nt);
+  const double* rho_start = sym ? extend(ext_rho_, rho, 1) : rho;
+  particle_volume(me, rho_start, volume, nt);
   const BondFailure failure = bond_failure_inputs(n);
   velocity_gradient_pass(xe, ve, volume, correction, second_b, L, nullptr, n, failure);
+  const bool diffusion = settings_.density_diffusion > 0.0;
+  if (diffusion) {
+    diffusion_rate_.assign(n, 0.0);
+    density_diffusion_pass(xe, rho_start, volume, correction, diffusion_rate_.data(), n, failure);
+  }
   // The density advances here, before the material's equation of state, so that the pressure and
   // the deviatoric stress both belong to the new configuration x^n (eq. 14). Updating it after
   // the momentum pass lagged the pressure one step behind: a delayed restoring force that pumps
@@ -1002,6 +1042,8 @@ void Simulation::mechanics_rates() {
     double drho[kRateBlock];
     const std::size_t first = blk * kRateBlock, len = std::min(kRateBlock, n - first);
     continuity_density_rate(L + 9 * first, rho + first, drho, len);  // (nested: serial in this thread)
+    if (diffusion)
+      for (std::size_t k = 0; k < len; ++k) drho[k] += diffusion_rate_[first + k];  // eq. 4a
     for (std::size_t k = 0; k < len; ++k) rho[first + k] += dt_ * drho[k];
   }
   jaumann_rotation(L, dt_, S, n);

@@ -35,6 +35,7 @@ struct CoreSettings {
   double mass_scaling = 1.0;  ///< eq. 24
   double time_scaling = 1.0;  ///< eq. 25
   double xsph = 0.0;          ///< eq. 19, 0: off
+  double density_diffusion = 0.0;  ///< delta of eq. 4a, 0: off
   SymmetrySettings symmetry;  ///< numerics.symmetry (section 11, eqs. 28-32); inactive by default
   struct Thermal {
     bool enabled = false;
@@ -170,6 +171,12 @@ class Simulation {
   // Thermal scratch (thermal scenes only): properties, heat flow (W) and surface area (m^2).
   std::vector<double> conductivity_, specific_heat_, heat_W_, area_, thermal_volume_, physical_density_;
   std::vector<double> xsph_scratch_;
+  /// Density diffusion (eq. 4a; scenes that enable it only): g (3 per particle and ghost) and the
+  /// diffusive rate of the real particles.
+  std::vector<double> density_gradient_, diffusion_rate_;
+  /// Adds the diffusive rate of eq. 4a at the step's start densities (rho_e: real and ghosts) to drho.
+  void density_diffusion_pass(const double* xe, const double* rho_e, const double* volume, const double* correction,
+                              double* drho, std::size_t n, const BondFailure& failure);
   std::vector<std::pair<std::size_t, std::size_t>> wrap_moves_;  ///< particles the symmetry wrap moved, and their image
   double internal_energy_ = 0.0, dt_thermal_ = 0.0;
   bool any_convection_ = false;
