@@ -81,6 +81,15 @@ struct Block {
   }
 };
 
+/// rho0 (1 + e), e uniform in [-0.05, 0.05], fixed seed.
+std::vector<double> noisy_density(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> noise(-0.05, 0.05);
+  std::vector<double> rho(n);
+  for (double& r : rho) r = kRho0 * (1.0 + noise(rng));
+  return rho;
+}
+
 void check_linear_density(KernelKind kernel) {
   Block block(12, kernel);
   const double a[3] = {30.0, -55.0, 12.0};  // kg/m^4: a few per cent of rho0 across the block
@@ -129,10 +138,7 @@ TEST(DensityDiffusion, LinearDensityDoesNotDiffuseWithGenericPairLoops) {
 
 TEST(DensityDiffusion, ConservesVolumeWeightedDensity) {
   Block block(10, KernelKind::CubicSpline);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> noise(-0.05, 0.05);
-  std::vector<double> rho(block.n);
-  for (double& r : rho) r = kRho0 * (1.0 + noise(rng));
+  const std::vector<double> rho = noisy_density(block.n, 7);
   const std::vector<double> d = block.rate(rho, false);
   double sum = 0.0, magnitude = 0.0;
   for (std::size_t i = 0; i < block.n; ++i) sum += block.volume[i] * d[i], magnitude += block.volume[i] * std::abs(d[i]);
@@ -146,10 +152,7 @@ TEST(DensityDiffusion, ConservesVolumeWeightedDensity) {
 // stress, so every pair is broken (tension) or none is (compression).
 TEST(DensityDiffusion, BrokenBondsUnderTensionCarryNoFlux) {
   Block block(8, KernelKind::CubicSpline);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> noise(-0.05, 0.05);
-  std::vector<double> rho(block.n);
-  for (double& r : rho) r = kRho0 * (1.0 + noise(rng));
+  const std::vector<double> rho = noisy_density(block.n, 5);
   const std::vector<double> failed(block.n, 1.0);
   auto rate_with = [&](double normal_stress) {
     const std::vector<double> sigma = [&] {
@@ -186,13 +189,9 @@ TEST(DensityDiffusion, DampsDensityNoise) {
   rho[spike] *= 1.01;
   EXPECT_LT(block.rate(rho, false)[spike], 0.0);
   // Random noise: the rate lowers the noise's (volume-weighted) variance, d/dt sum V (rho - mean)^2 / 2 < 0.
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> noise(-0.05, 0.05);
+  rho = noisy_density(block.n, 11);
   double mean = 0.0, volume = 0.0;
-  for (std::size_t i = 0; i < block.n; ++i) {
-    rho[i] = kRho0 * (1.0 + noise(rng));
-    mean += block.volume[i] * rho[i], volume += block.volume[i];
-  }
+  for (std::size_t i = 0; i < block.n; ++i) mean += block.volume[i] * rho[i], volume += block.volume[i];
   mean /= volume;
   const std::vector<double> d = block.rate(rho, false);
   double variance_rate = 0.0;

@@ -6,10 +6,11 @@
 // errors accumulate; nothing ties rho back to where the particles are. Where a nearly incompressible
 // body is sheared hard for a long time (the paste under the ram's centre, K / sigma_y ~ 800), the
 // density drifts into layers of -15 % and +15 %: pressures of -50 and +50 MPa next to each other
-// under a 5 MPa extrusion pressure, and in a sector run an exit 3 (docs/validation/ram_extrusion.md).
+// under a 5 MPa extrusion pressure, and in a sector run an exit 3 (docs/stability.md, last section).
 // The term diffuses that noise; with the corrected-gradient part it is zero for a density that is
 // linear in space, so a steady pressure gradient (the extrusion pressure falling towards the die)
-// does not drive a flux.
+// does not drive a flux. Its coefficient delta h c grows as the mass scaling falls; where the
+// density is far from linear it then acts as a volume source (docs/validation/ram_extrusion.md 1a).
 #pragma once
 
 #include <cstddef>
