@@ -25,6 +25,10 @@ expect_check(2 "hx220_m4_quick.json at /process/particle_spacing: too coarse"
 # The bushing band must stay inside the clamped rim.
 expect_check(2 "hx220_m4_quick.json at /process/bushing_outer_radius"
              "${CASES}/hx220_m4_quick.json" --set "process.bushing_outer_radius=6 mm")
+# The bushing's link distance must exceed the spacing, else the intact lattice has no links (eq. 127a).
+expect_check(2 "hx220_m4_quick.json at /process/bushing_link_distance: must exceed particle_spacing"
+             "${CASES}/hx220_m4_quick.json" --set "process.bushing_link_distance=0.3 mm")
+expect_check(0 "is valid" "${CASES}/hx220_m4_quick.json" --set "process.bushing_link_distance=0.6 mm")
 # A drill profile that is not a list of [r, z] pairs.
 expect_check(2 "hx220_m4_quick.json at /process/drill_profile"
              "${CASES}/hx220_m4_quick.json" --set "process.drill_profile=[1, 2]")

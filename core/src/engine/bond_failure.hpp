@@ -14,6 +14,8 @@
 
 #include <cstddef>
 
+#include "sphforge/bond_rule.hpp"
+
 namespace sphforge {
 
 /// Inputs of the pair rule, for the pair passes (null `failed`: no failure in the scene, and the
@@ -23,19 +25,7 @@ struct BondFailure {
   const double* stress = nullptr;  ///< 6 per particle: Cauchy stress sigma = S - p I at the step's start, Pa
 };
 
-/// k_ij of eq. 112 for the pair (i, j) with x_ij = xi - xj: 0 when both particles failed and the
-/// pair's normal stress t_ij = x_ij . (sigma_i + sigma_j) . x_ij is tensile (> 0), else 1. Symmetric
-/// in i and j (t_ij is a quadratic form in x_ij), so the pair forces stay antisymmetric. Written
-/// without branches for the vectorised pair loops.
-__attribute__((always_inline)) inline double bond_factor(double failed_i, double failed_j, const double* sigma_i,
-                                                         const double* sigma_j, double x0, double x1, double x2) {
-  const double t = (sigma_i[0] + sigma_j[0]) * x0 * x0 + (sigma_i[1] + sigma_j[1]) * x1 * x1 +
-                   (sigma_i[2] + sigma_j[2]) * x2 * x2 +
-                   2.0 * ((sigma_i[3] + sigma_j[3]) * x0 * x1 + (sigma_i[4] + sigma_j[4]) * x1 * x2 +
-                          (sigma_i[5] + sigma_j[5]) * x0 * x2);
-  const double broken = failed_i * failed_j;  // eq. 111: 1 only when both failed
-  return 1.0 - broken * (t > 0.0 ? 1.0 : 0.0);
-}
+// bond_factor(), k_ij of eq. 112, is public (sphforge/bond_rule.hpp): processes read the same rule.
 
 /// sigma_i = S_i - p_i I (6 per particle, xx yy zz xy yz xz), the stress the pair rule reads.
 void cauchy_stress(const double* pressure, const double* deviatoric_stress, double* sigma, std::size_t n);

@@ -2,7 +2,8 @@
 // through a thin sheet (a disc clamped at its rim). The drill carries thermal-only particles that
 // take its share of the friction heat and conduct heat away from the contact (docs/theory.md
 // section 9.1); the process measures axial force, torque, a thermocouple on the upper surface and
-// the bushing heights from the particle cloud (docs/theory.md section 17, eqs. 120-129).
+// the bushing heights from the particle cloud, counting only material still joined to the clamped
+// rim (docs/theory.md section 17, eqs. 120-129 and 127a; sheet_connectivity.hpp).
 // Geometry and reference numbers: cases/friction_drilling/reference/friction_drilling.md.
 //
 // Coordinates: z is the drill axis; the sheet's upper surface is the plane z = 0 and its lower
@@ -14,6 +15,7 @@
 #include <numbers>
 #include <vector>
 
+#include "sheet_connectivity.hpp"
 #include "sphforge/plugin.hpp"
 
 namespace {
@@ -51,6 +53,13 @@ class FrictionDrilling final : public Process {
     band_outer_ = p.number("bushing_outer_radius");
     rank_ = static_cast<std::size_t>(p.integer("bushing_rank"));
     sectors_ = static_cast<int>(p.integer("sector_count"));
+    // Eq. 127a: 1.5 dx links the lattice neighbours at dx and sqrt(2) dx, but not particles across
+    // the gap of one missing layer (2 dx) nor the cube diagonal (sqrt(3) dx, reached through the others).
+    link_ = p.number("bushing_link_distance") > 0.0 ? p.number("bushing_link_distance") : 1.5 * spacing_;
+    if (link_ <= spacing_ * (1.0 + 1e-9))
+      p.fail("bushing_link_distance", "must exceed particle_spacing (0: 1.5 x particle_spacing), else the intact "
+             "lattice falls apart");
+    bushing_interval_ = p.number("bushing_interval");
     if (thickness_ < 2.0 * spacing_ - 1e-12)
       p.fail("particle_spacing", "too coarse: need at least 2 particle layers over the sheet thickness");
     if (clamp_width_ >= radius_) p.fail("clamp_width", "must be smaller than the sheet radius");
@@ -204,7 +213,6 @@ class FrictionDrilling final : public Process {
     feed_out_ = feed_;
     speed_out_ = speed_;
 
-    const double* x = f.f64(field::position);
     const std::size_t n = ctx.mechanical_count;
     // Sheet temperatures (eq. 125-126).
     if (const double* T = f.f64_if(field::temperature)) {
@@ -235,24 +243,14 @@ class FrictionDrilling final : public Process {
       for (std::size_t i = 0; i < n; ++i) emax = std::max(emax, eps[i]);
       plastic_strain_max_ = emax;
     }
-    // Bushing heights (eqs. 127-129): the rank-th highest and lowest sheet particle in the band
-    // band_inner <= r <= band_outer around the hole; particle centres lie dx/2 inside the surface.
-    highest_.clear();
-    lowest_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-      const double r = std::hypot(x[3 * i], x[3 * i + 1]);
-      if (r < band_inner_ || r > band_outer_) continue;
-      keep_extreme(highest_, x[3 * i + 2], std::greater<double>());
-      keep_extreme(lowest_, x[3 * i + 2], std::less<double>());
+    // Bushing (eqs. 127-129, 127a) every bushing_interval of simulated time, on the same grid as
+    // the core's history rows (the Process API does not say which steps write a row: with
+    // bushing_interval = run.history_interval, or a divisor of it, each row holds the bushing of its
+    // own step), and on the final state when the stroke ends the run (finished() then stops the loop).
+    if (ctx.time_s >= next_bushing_ || depth_ >= stroke_) {
+      measure_bushing(f, n);
+      while (next_bushing_ <= ctx.time_s) next_bushing_ += bushing_interval_;
     }
-    const double t = thickness_eff();
-    if (highest_.size() == rank_) {
-      upper_ = std::max(0.0, highest_.back() + 0.5 * spacing_ - top_);
-      lower_ = std::max(0.0, (top_ - t) - (lowest_.back() - 0.5 * spacing_));
-    } else {
-      upper_ = lower_ = 0.0;
-    }
-    total_ = upper_ + t + lower_;
 
     if (ctx.dt_s > 0.0) {
       if (axial_force_ > max_force_) {
@@ -284,6 +282,7 @@ class FrictionDrilling final : public Process {
             {"bushing_upper_m", &upper_},
             {"bushing_lower_m", &lower_},
             {"bushing_total_m", &total_},
+            {"bushing_detached_particles_1", &detached_},
             {"failed_particles_1", &failed_},
             {"plastic_strain_max_1", &plastic_strain_max_}};
   }
@@ -304,6 +303,8 @@ class FrictionDrilling final : public Process {
     m["bushing_upper_m"] = upper_;
     m["bushing_lower_m"] = lower_;
     m["bushing_total_m"] = total_;
+    m["bushing_detached_particles"] = detached_;
+    m["bushing_link_distance_m"] = link_;
     m["final_drill_depth_m"] = depth_;
     m["final_process_time_s"] = process_time_;
     m["sheet_thickness_lattice_m"] = thickness_eff();
@@ -317,13 +318,31 @@ class FrictionDrilling final : public Process {
   /// Sheet thickness as built: nz dx (equals the nominal t when t is a multiple of dx).
   double thickness_eff() const { return top_ + thickness_; }
 
-  /// Keeps the `rank_` most extreme values (by `better`) in `list`, sorted best first.
-  template <class Better>
-  void keep_extreme(std::vector<double>& list, double value, Better better) const {
-    if (list.size() == rank_ && !better(value, list.back())) return;
-    auto it = std::lower_bound(list.begin(), list.end(), value, better);
-    list.insert(it, value);
-    if (list.size() > rank_) list.pop_back();
+  /// Bushing heights (eqs. 127-129): the rank-th highest and lowest sheet particle in the band
+  /// band_inner <= r <= band_outer around the hole, among the particles joined to the clamped rim
+  /// (eq. 127a); particle centres lie dx/2 inside the surface.
+  void measure_bushing(FieldRegistry& f, std::size_t n) {
+    friction_drilling::SheetParticles sheet;
+    sheet.count = n;
+    sheet.position = f.f64(field::position);
+    sheet.seed = f.i64(kClampedField);
+    // The core's bond rule (eqs. 111-112) on the flags and stresses the next step starts from.
+    sheet.failed = f.f64_if(field::failed);
+    sheet.pressure = f.f64_if(field::pressure);
+    sheet.deviatoric_stress = f.f64_if(field::deviatoric_stress);
+    if (!sheet.pressure || !sheet.deviatoric_stress) sheet.failed = nullptr;
+    connectivity_.compute(sheet, link_, sectors_);
+    const friction_drilling::BandExtremes e =
+        friction_drilling::band_extremes(sheet, &connectivity_, band_inner_, band_outer_, rank_, highest_, lowest_);
+    const double t = thickness_eff();
+    if (e.found) {
+      upper_ = std::max(0.0, e.z_high + 0.5 * spacing_ - top_);
+      lower_ = std::max(0.0, (top_ - t) - (e.z_low - 0.5 * spacing_));
+    } else {
+      upper_ = lower_ = 0.0;
+    }
+    total_ = upper_ + t + lower_;
+    detached_ = static_cast<double>(e.detached);
   }
 
   // Parameters.
@@ -335,6 +354,7 @@ class FrictionDrilling final : public Process {
   std::string drill_material_;
   std::size_t rank_ = 3;
   int sectors_ = 1;
+  double link_ = 0.0, bushing_interval_ = 0.0;
   ToolProfile profile_;
   // Commands (physical units, eq. 123).
   double feed_ = 0.0, speed_ = 0.0;
@@ -348,6 +368,10 @@ class FrictionDrilling final : public Process {
   double process_time_ = 0.0, tip_z_ = 0.0, depth_ = 0.0, feed_out_ = 0.0, speed_out_ = 0.0;
   double axial_force_ = 0.0, torque_ = 0.0, probe_temperature_ = 0.0, temperature_max_ = 0.0;
   double upper_ = 0.0, lower_ = 0.0, total_ = 0.0, failed_ = 0.0, plastic_strain_max_ = 0.0;
+  double detached_ = 0.0;
+  // Bushing evaluation: next simulated time, connectivity and band scratch (storage kept between calls).
+  double next_bushing_ = 0.0;
+  friction_drilling::SheetConnectivity connectivity_;
   std::vector<double> highest_, lowest_;
   double max_force_ = 0.0, max_force_time_ = 0.0, max_force_depth_ = 0.0, max_torque_ = 0.0;
   double max_probe_ = 0.0, max_probe_time_ = 0.0, max_temperature_ = 0.0;
@@ -387,9 +411,17 @@ const PluginDescriptor& descriptor() {
           ParamSpec::integer("bushing_rank", 3,
                              "the bushing ends at the rank-th highest / lowest particle of the band (robust to a stray "
                              "particle, eq. 127)", 1, 1000),
+          ParamSpec::number("bushing_link_distance", "m", 0.0,
+                            "the bushing counts only particles joined to the clamped rim by a chain of links: pairs "
+                            "closer than this whose bond the core's failure rule has not broken (eq. 127a); 0: 1.5 x "
+                            "particle_spacing (links the lattice neighbours at dx and sqrt(2) dx, not across a "
+                            "missing particle layer)", 0.0),
+          ParamSpec::number("bushing_interval", "s", 5e-5,
+                            "simulated time between two evaluations of the bushing and its connectivity (eq. 127a; "
+                            "the history shows the latest): use run.history_interval or a divisor of it", 1e-12),
           ParamSpec::integer("sector_count", 1,
-                             "N when numerics.symmetry is a sector of 360/N deg (force and torque x N; needs "
-                             "drill_body false: the core rejects thermal-only bodies with symmetry)", 1, 64),
+                             "N when numerics.symmetry is a sector of 360/N deg (force and torque x N; the bushing's "
+                             "connectivity passes through the cut planes, eq. 127a)", 1, 64),
       });
   return d;
 }
