@@ -181,4 +181,54 @@ TEST(ContactPass, FrictionMemoryFollowsTheParticleIdAndIsForgottenOffContact) {
   EXPECT_TRUE(contact.friction_history(0).empty());
 }
 
+
+// A law that holds every contact on its wall whatever the force (kinematic sticking, eq. 18j).
+struct HoldingLaw : ContactLaw {
+  void tangential_forces(ContactBatch& b) const override {
+    for (std::size_t c = 0; c < b.count; ++c) {
+      sticking_force(b, c, b.tangential_force + 3 * c);
+      b.sticking[c] = kHeldOnWall;
+    }
+  }
+};
+
+TEST(ContactPass, ParticleHeldByTwoToolsEndsAtTheLastToolsTangentialVelocity) {
+  // A particle in the corner of a fixed barrel (r = 10 mm, the first tool) and a die face z = 0
+  // turning at omega (the second), both holding it kinematically. The sticking force is
+  // f = -m (v_t / dt + a_other,t) (eq. 18a), where a_other must include the force the barrel has
+  // already put on the particle in this pass: then the die's hold, applied last, leaves the
+  // particle with the die's velocity in the die's plane, v' = v + dt (a + f_total / m) = v_die.
+  // Counting only the internal acceleration, the shared (azimuthal) direction is held twice and
+  // v'_theta = v_die - v_theta: 70 % of the die's speed here.
+  const double dx = 1e-3;
+  std::vector<RigidTool> tools;
+  tools.emplace_back("barrel", std::vector<Eigen::Vector2d>{{10e-3, 0.0}, {10e-3, 20e-3}});
+  tools.emplace_back("die", std::vector<Eigen::Vector2d>{{0.0, 0.0}, {10e-3, 0.0}});
+  tools[1].angular_velocity_rad_s = 50.0;
+  HoldingLaw law;
+  PenaltyContact contact;
+  contact.configure(ContactSettings{}, {&law, &law}, dx, 1e9);
+  const double r = 10e-3 - 0.3 * dx;
+  std::vector<double> x = {r, 0.0, 0.3 * dx};
+  const Eigen::Vector3d v_die = tools[1].surface_velocity(Eigen::Vector3d(x[0], x[1], x[2]));
+  ASSERT_GT(v_die.norm(), 0.4);  // omega r = 0.49 m/s, along +y
+  // Moving at 30 % of the die's speed, drifting outwards and up, with an internal acceleration.
+  std::vector<double> v = {0.05, 0.3 * v_die.y(), 0.02}, m = {1e-3}, acc = {3.0, -2.0, 1.0}, f(3, 0.0);
+  ContactArrays a;
+  a.x = x.data();
+  a.v = v.data();
+  a.mass = m.data();
+  a.acceleration = acc.data();
+  a.n = 1;
+  a.dt = 1e-6;
+  a.force = f.data();
+  ASSERT_EQ(contact.apply(tools, a), 2u);  // one contact with each tool
+  double v_new[3];
+  for (int d = 0; d < 3; ++d) v_new[d] = v[d] + a.dt * (acc[d] + f[d] / m[0]);
+  // In the die's plane (x, y) the particle moves with the die; 1e-12 m/s is round-off of
+  // forces of size m |v| / dt = 0.5 N times dt / m = 1e-3.
+  EXPECT_NEAR(v_new[0], v_die.x(), 1e-12);
+  EXPECT_NEAR(v_new[1], v_die.y(), 1e-12);
+}
+
 }  // namespace

@@ -232,11 +232,17 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       batch_vn_[c] = vn;
       batch_damping_[c] = damping;
       batch_yield_[c] = a.yield ? a.yield[i] : std::numeric_limits<double>::infinity();
+      // a_other of the sticking force (eq. 18a): the internal acceleration plus the contact forces
+      // the tools before this one have already put on the particle in this pass. Without the
+      // latter, a particle touching two tools (the corner of die face and container wall) is held
+      // twice over in their shared tangential direction, and a kinematic hold (eq. 18j) then
+      // drives it past both walls' speeds.
+      const double inv_mass = 1.0 / a.mass[i];
       for (int d = 0; d < 3; ++d) {
         batch_normal_[3 * c + d] = nrm[d];
         batch_vt_[3 * c + d] = vt[d];
         batch_vwall_[3 * c + d] = v_wall[d];
-        batch_acc_[3 * c + d] = a.acceleration ? a.acceleration[3 * i + d] : 0.0;
+        batch_acc_[3 * c + d] = (a.acceleration ? a.acceleration[3 * i + d] : 0.0) + a.force[3 * i + d] * inv_mass;
       }
       // Its memory from the last pass, zero for a particle that was not touching then.
       const FrictionHistoryEntry* e = keeps_history && !history.empty() ? find_history(history, a.id[i]) : nullptr;
