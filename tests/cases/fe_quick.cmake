@@ -21,26 +21,8 @@ endif()
 if(NOT settled STREQUAL "ON" AND NOT settled STREQUAL "true")
   message(FATAL_ERROR "the extrusion force never settled within +/-15 % of 300 kN")
 endif()
-# Physical bounds: the interface is heated by friction above room temperature (295.15 K) and stays
-# below the Johnson-Cook melting temperature 750.15 K (the material has no strength there, so the
-# Tresca friction heat vanishes); heat reaches the die thermocouple only by conduction from the
-# billet (friction_heat_to_workpiece = 1), so it is colder than the mean interface.
-if(NOT (t_if GREATER 300 AND t_if LESS 750.15))
-  message(FATAL_ERROR "interface temperature ${t_if} K outside (300 K, 750.15 K)")
-endif()
-if(NOT (t_die GREATER 295.15 AND t_die LESS t_if))
-  message(FATAL_ERROR "die thermocouple ${t_die} K not between room temperature and the interface ${t_if} K")
-endif()
-# Regression against the stored reference: each metric inside [min, max] of
-# reference/quick_metrics.json, whose `why` states the reason for the width (CMake compares floats but
-# has no float arithmetic, so the bounds are stored, not computed).
-foreach(key steady_mean_force_N final_interface_temperature_K final_die_thermocouple_K)
-  case_metric(value ${key})
-  string(JSON lo GET "${reference}" metrics ${key} min)
-  string(JSON hi GET "${reference}" metrics ${key} max)
-  string(JSON why GET "${reference}" metrics ${key} why)
-  message(STATUS "${key} = ${value}, reference range [${lo}, ${hi}] (${why})")
-  if(value LESS lo OR value GREATER hi)
-    message(FATAL_ERROR "${key} = ${value} outside the reference range [${lo}, ${hi}]")
-  endif()
-endforeach()
+# Physical bounds (run_case.cmake): the Johnson-Cook melting temperature is 750.15 K, the room
+# 295.15 K; friction_heat_to_workpiece = 1, so the die is heated only through the billet.
+expect_interface_and_tool_temperatures(${t_if} ${t_die} 295.15 750.15)
+# Regression against the stored reference (reference/quick_metrics.json).
+expect_reference_ranges("${reference}" steady_mean_force_N final_interface_temperature_K final_die_thermocouple_K)

@@ -45,3 +45,32 @@ function(expect_at_least value bound what)
     message(FATAL_ERROR "${what} ${value} is below ${bound}")
   endif()
 endfunction()
+
+# Thermal bounds of a rotating-tool case (friction extrusion, FSBE): friction heats the interface above
+# room temperature `t_room`, and stays below the Johnson-Cook melting temperature `t_melt` (the material
+# has no strength there, so the Tresca friction heat vanishes); the tool thermocouple is heated only by
+# conduction from the billet, so it lies between room temperature and the interface.
+function(expect_interface_and_tool_temperatures t_if t_tool t_room t_melt)
+  if(NOT (t_if GREATER 300 AND t_if LESS t_melt))
+    message(FATAL_ERROR "interface temperature ${t_if} K outside (300 K, ${t_melt} K)")
+  endif()
+  if(NOT (t_tool GREATER t_room AND t_tool LESS t_if))
+    message(FATAL_ERROR "tool thermocouple ${t_tool} K not between room temperature ${t_room} K and the interface ${t_if} K")
+  endif()
+endfunction()
+
+# Regression against a stored reference (the JSON text `reference`, e.g. reference/quick_metrics.json):
+# each metric named after it inside [min, max] of its entry, whose `why` states the reason for the width
+# (CMake compares floats but has no float arithmetic, so the bounds are stored, not computed).
+function(expect_reference_ranges reference)
+  foreach(key ${ARGN})
+    string(JSON value GET "${summary}" metrics ${key})
+    string(JSON lo GET "${reference}" metrics ${key} min)
+    string(JSON hi GET "${reference}" metrics ${key} max)
+    string(JSON why GET "${reference}" metrics ${key} why)
+    message(STATUS "${key} = ${value}, reference range [${lo}, ${hi}] (${why})")
+    if(value LESS lo OR value GREATER hi)
+      message(FATAL_ERROR "${key} = ${value} outside the reference range [${lo}, ${hi}]")
+    endif()
+  endforeach()
+endfunction()
