@@ -235,8 +235,8 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       // a_other of the sticking force (eq. 18a): the internal acceleration plus the contact forces
       // the tools before this one have already put on the particle in this pass. Without the
       // latter, a particle touching two tools (the corner of die face and container wall) is held
-      // twice over in their shared tangential direction, and a kinematic hold (eq. 18j) then
-      // drives it past both walls' speeds.
+      // twice over in their shared tangential direction and ends the step at neither wall's
+      // velocity (70 % of the die's in ContactPass.ParticleHeldByTwoToolsEndsAtTheLastToolsTangentialVelocity).
       const double inv_mass = 1.0 / a.mass[i];
       for (int d = 0; d < 3; ++d) {
         batch_normal_[3 * c + d] = nrm[d];
