@@ -27,6 +27,26 @@ struct BondFailure {
 
 // bond_factor(), k_ij of eq. 112, is public (sphforge/bond_rule.hpp): processes read the same rule.
 
+/// The rule for particle i's pairs inside a pair pass: loads i's stress and flag once, outside the
+/// neighbour loop. Failure = false (no failure in the scene) compiles to a factor 1, so the loops
+/// run without the rule.
+template <bool Failure>
+struct BondRule {
+  const BondFailure& failure;
+  double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
+  __attribute__((always_inline)) BondRule(const BondFailure& f, std::size_t i) : failure(f) {
+    if constexpr (Failure) {
+      for (int c = 0; c < 6; ++c) sigma_i[c] = f.stress[6 * i + c];
+      failed_i = f.failed[i];
+    }
+  }
+  /// k_ij (eq. 112) for the pair (i, j), x_ij = x_i - x_j.
+  __attribute__((always_inline)) double factor(std::size_t j, double x0, double x1, double x2) const {
+    if constexpr (Failure) return bond_factor(failed_i, failure.failed[j], sigma_i, failure.stress + 6 * j, x0, x1, x2);
+    return 1.0;
+  }
+};
+
 /// sigma_i = S_i - p_i I (6 per particle, xx yy zz xy yz xz), the stress the pair rule reads.
 void cauchy_stress(const double* pressure, const double* deviatoric_stress, double* sigma, std::size_t n);
 

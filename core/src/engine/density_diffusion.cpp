@@ -15,24 +15,8 @@ struct DiffusionArgs {
   BondFailure failure;  // failed == null: no failure in the scene
 };
 
-// The bond rule of eq. 112 for particle i's pairs: a broken bond under tension carries no density flux
-// either, as it carries no velocity gradient (eq. 113). Failure = false compiles to a factor 1, so a
-// scene without failure runs the loops without the rule (as the velocity gradient does).
-template <bool Failure>
-struct BondRule {
-  const BondFailure& failure;
-  double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
-  __attribute__((always_inline)) BondRule(const BondFailure& f, std::size_t i) : failure(f) {
-    if constexpr (Failure) {
-      for (int c = 0; c < 6; ++c) sigma_i[c] = f.stress[6 * i + c];
-      failed_i = f.failed[i];
-    }
-  }
-  __attribute__((always_inline)) double factor(std::size_t j, double x0, double x1, double x2) const {
-    if constexpr (Failure) return bond_factor(failed_i, failure.failed[j], sigma_i, failure.stress + 6 * j, x0, x1, x2);
-    return 1.0;
-  }
-};
+// A broken bond under tension (eq. 112, BondRule in bond_failure.hpp) carries no density flux
+// either, as it carries no velocity gradient (eq. 113).
 
 // g_i of eq. 4b.
 template <KernelKind K, bool Failure>

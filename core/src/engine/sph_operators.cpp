@@ -46,11 +46,7 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
   DecodedList list(*g.nl, i);
   const std::uint32_t* const nb = list.indices;
   const std::ptrdiff_t count = list.count;
-  double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
-  if constexpr (Failure) {
-    for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
-    failed_i = g.failure.failed[i];
-  }
+  const BondRule<Failure> bond(g.failure, i);
 #pragma omp simd reduction(+ : l0, l1, l2, l3, l4, l5, l6, l7, l8, m0, m1, m2, m3, m4, m5)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const std::size_t j = nb[k];
@@ -60,7 +56,7 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
     // A broken bond under tension leaves the gradient and the correction matrix alike (eq. 113):
     // the particle then sees its side of the crack as a free surface.
     if constexpr (Failure)
-      f *= bond_factor(failed_i, g.failure.failed[j], sigma_i, g.failure.stress + 6 * j, x0, x1, x2);
+      f *= bond.factor(j, x0, x1, x2);
     const double d0 = (v[3 * j] - vi0) * f, d1 = (v[3 * j + 1] - vi1) * f, d2 = (v[3 * j + 2] - vi2) * f;
     l0 += d0 * x0, l1 += d0 * x1, l2 += d0 * x2;
     l3 += d1 * x0, l4 += d1 * x1, l5 += d1 * x2;
@@ -164,11 +160,7 @@ SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKerne
   for (int c = 0; c < 9; ++c) ai[c] = stress_c[9 * i + c];
   for (int c = 0; c < 6; ++c) Ri[c] = kStress ? R[6 * i + c] : 0.0;
   double a0 = 0, a1 = 0, a2 = 0;
-  double sigma_i[6] = {0, 0, 0, 0, 0, 0}, failed_i = 0.0;
-  if constexpr (Failure) {
-    for (int c = 0; c < 6; ++c) sigma_i[c] = g.failure.stress[6 * i + c];
-    failed_i = g.failure.failed[i];
-  }
+  const BondRule<Failure> bond(g.failure, i);
 #pragma omp simd reduction(+ : a0, a1, a2)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const std::size_t j = nb[k];
@@ -188,7 +180,7 @@ SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKerne
     // velocity gradient left out (energy consistency, eq. 113).
     double keep = 1.0;
     if constexpr (Failure) {
-      keep = bond_factor(failed_i, g.failure.failed[j], sigma_i, g.failure.stress + 6 * j, x0, x1, x2);
+      keep = bond.factor(j, x0, x1, x2);
       vg *= keep;
     }
     a0 += vg * (a[0] * x0 + a[1] * x1 + a[2] * x2);
