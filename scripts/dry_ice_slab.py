@@ -1,0 +1,76 @@
+#!/usr/bin/env python3
+"""Slab (Sachs) estimate of the dry-ice ram force for the 13 dies (docs/theory.md eq. 88), an analytic
+yardstick for the SPH F_L of docs/validation/dry_ice.md. Same model as the cases: elastic-perfectly-
+plastic, sigma_y = 3.5 MPa, Coulomb mu = 0.1, barrel D = 28 mm, outlet d = 16 mm, die profiles of
+eqs. 83-84 (WK outward, WP inward), billet H_1 = 27.1 mm above the die entry.
+
+What the estimate leaves out, so it is a lower estimate of a fully plastic flow, not a bound: redundant
+shear at the die entry and exit, friction in the land (the extrudate leaves the cone at zero axial
+stress), elastic springback. Prints one row per die and the ratio to the experimental median.
+
+  python3 scripts/dry_ice_slab.py
+"""
+import csv
+import math
+import os
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+MU, SIGMA_Y, NU = 0.1, 3.5e6, 0.46
+D, D_OUT, H_BILLET = 28e-3, 16e-3, 27.1e-3
+R0, R1 = D / 2, D_OUT / 2
+
+
+def profile(row):
+    """Die wall radius r(z) for 0 <= z <= h, z measured down from the die entry; returns (h, r)."""
+    family = row["family"]
+    if family == "CS":
+        h = float(row["cone_length_mm"]) * 1e-3
+        return h, lambda z: R0 - (R0 - R1) * z / h
+    h1 = float(row["h1_mm"] or 0) * 1e-3
+    h2 = float(row["h2_mm"] or 0) * 1e-3
+    rk = float(row["R1_mm"] or 0) * 1e-3
+    rp = float(row["R2_mm"] or 0) * 1e-3
+    h = h1 + h2
+
+    def r(z):
+        if z <= h1:  # convex arc, tangent to the barrel at the entry (eq. 83, outward)
+            return R0 - rk + math.sqrt(max(rk * rk - z * z, 0.0))
+        return R1 + rp - math.sqrt(max(rp * rp - (h - z) ** 2, 0.0))  # concave, tangent to the land
+
+    return h, r
+
+
+def entry_stress(row, steps=20000):
+    """Axial stress at the die entry: eq. 88 integrated upstream from the exit, where it is zero."""
+    h, r = profile(row)
+    dz = h / steps
+    sigma = 0.0
+    for i in range(steps):
+        z = h - (i + 0.5) * dz
+        tan_a = (r(max(z - dz / 2, 0.0)) - r(min(z + dz / 2, h))) / dz
+        sigma += dz * (2.0 / r(z)) * (MU * sigma + SIGMA_Y * (tan_a + MU))
+    return sigma
+
+
+def main():
+    with open(os.path.join(ROOT, "cases", "ram_extrusion", "reference", "dry_ice_dies.csv"), newline="") as f:
+        dies = list(csv.DictReader(f))
+    with open(os.path.join(ROOT, "cases", "ram_extrusion", "reference", "dry_ice_force_public.csv"), newline="") as f:
+        exp = {r["die"]: float(r["F_L_exp_median_N"]) for r in csv.DictReader(f)}
+    area = math.pi * D * D / 4
+    print("| die | entry stress (MPa) | F, elastic billet (N) | F, plastic billet (N) | exp. median (N) | plastic / exp. |")
+    print("|---|---|---|---|---|---|")
+    for row in dies:
+        s = entry_stress(row)
+        # The billet above the entry: wall pressure K sigma, K = nu / (1 - nu) when it is elastic and
+        # confined, K = 1 when it yields (p = sigma + sigma_y, the sigma_y dropped): eq. 88b.
+        f_el = s * math.exp(4 * MU * NU / (1 - NU) * H_BILLET / D) * area
+        f_pl = s * math.exp(4 * MU * H_BILLET / D) * area
+        e = exp.get(row["die"])
+        ratio = f"{f_pl / e:.2f}" if e else "held out"
+        print(f"| {row['die']} | {s / 1e6:.2f} | {f_el:.0f} | {f_pl:.0f} | {e:.0f} | {ratio} |" if e else
+              f"| {row['die']} | {s / 1e6:.2f} | {f_el:.0f} | {f_pl:.0f} | held out | |")
+
+
+if __name__ == "__main__":
+    main()
