@@ -69,8 +69,9 @@ def main():
                     "entry_fillet_radius": "0 mm",
                     "fill_die": True,
                     "billet_lattice": "rings",
-                    # Axisymmetric die and billet: a 90 deg sector (a quarter of the particles, the
-                    # same F_L: 21.74 kN against 21.52 kN full at dx = 2 mm, CS50, docs/validation/dry_ice.md).
+                    # Axisymmetric die and billet: a 90 deg sector, a quarter of the particles. Its rings
+                    # lattice differs from the full circle's; F_L against the full run at dx = 2 mm:
+                    # CS50 +1.0 %, CS150 +14 % (docs/validation/dry_ice.md, "Convergence in dx").
                     "sector_count": 4,
                     "particle_spacing": v["spacing"],
                     "stroke": v["stroke"],
