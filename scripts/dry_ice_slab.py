@@ -67,9 +67,8 @@ def main():
         f_el = s * math.exp(4 * MU * NU / (1 - NU) * H_BILLET / D) * area
         f_pl = s * math.exp(4 * MU * H_BILLET / D) * area
         e = exp.get(row["die"])
-        ratio = f"{f_pl / e:.2f}" if e else "held out"
-        print(f"| {row['die']} | {s / 1e6:.2f} | {f_el:.0f} | {f_pl:.0f} | {e:.0f} | {ratio} |" if e else
-              f"| {row['die']} | {s / 1e6:.2f} | {f_el:.0f} | {f_pl:.0f} | held out | |")
+        measured = f"{e:.0f} | {f_pl / e:.2f}" if e else "held out |"
+        print(f"| {row['die']} | {s / 1e6:.2f} | {f_el:.0f} | {f_pl:.0f} | {measured} |")
 
 
 if __name__ == "__main__":

@@ -68,7 +68,8 @@ TEST(PasteRamExtrusionValidation, NavierLandSlope) {
     char name[80];
     std::snprintf(name, sizeof name, "paste_land_LD%.2f", x);
     std::vector<std::string> sets = {set};
-    if (x > 9.0)
+    const bool fills_late = x > 9.0;  // the 28 mm land (L/D = 28/3)
+    if (fills_late)
       sets.insert(sets.end(), {"process.stroke=2.5 mm", "process.steady_window_start=1.8 mm",
                                "process.steady_window_end=2.5 mm", "run.end_time=2.6 s", "numerics.domain_margin=0.3 m"});
     const double p = steady_pressure(run_case(kDir + "paste_land.json", name, sets));
