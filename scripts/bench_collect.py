@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Collect several `sphforge bench` folders (one case each) into one table and one plot for the docs.
+
+Each bench folder has bench.json (per spacing: particles, steps, wall time, metrics and their relative
+errors against the bench's reference). This script takes one metric and writes, for all folders:
+  OUT.csv  case, spacing_m, particles_1, steps_1, wall_s, status, <metric>, <metric>_error_1 (signed:
+           (value - reference) / reference), reference (the value, or "finest spacing")
+  OUT.png  relative error of the metric against wall time, one polyline per case (log-log); cases
+           without a reference (errors against their own finest spacing) are drawn dashed
+and prints a Markdown table (one row per case, one column group per spacing) on stdout.
+
+usage: scripts/bench_collect.py --metric peak_force_N [--scale 1e-3 --unit kN] OUT LABEL=BENCH_DIR ...
+(needs matplotlib for the plot)
+"""
+import argparse
+import csv
+import json
+import math
+
+
+def load(bench_dir):
+    with open(f"{bench_dir}/bench.json") as f:
+        return json.load(f)
+
+
+def rows_of(label, bench, metric):
+    ref = bench["reference"]
+    ref_value = ref.get("metrics", {}).get(metric)
+    kind = ref.get("kind", "")
+    rows = []
+    for run in bench["runs"]:
+        value = run.get("metrics", {}).get(metric)
+        # Signed, unlike bench.json's |value - ref| / |ref|: whether a spacing over- or under-predicts matters.
+        error = (value - ref_value) / ref_value if value is not None and ref_value else None
+        rows.append({"case": label, "spacing_m": run["spacing_m"], "particles_1": run.get("particles"),
+                     "steps_1": run.get("steps"), "wall_s": run.get("wall_s"), "status": run.get("status"),
+                     metric: value, f"{metric}_error_1": error,
+                     "reference": f"{ref_value}" if kind == "file" and ref_value is not None else "finest spacing"})
+    return rows
+
+
+def fmt(x, digits=3):
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return ""
+    return f"{x:.{digits}g}"
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--metric", required=True)
+    p.add_argument("--scale", type=float, default=1.0, help="factor applied to the metric in the table")
+    p.add_argument("--unit", default="", help="unit of the scaled metric, for the table header")
+    p.add_argument("out")
+    p.add_argument("benches", nargs="+", metavar="LABEL=BENCH_DIR")
+    a = p.parse_args()
+
+    all_rows = []
+    for item in a.benches:
+        label, _, folder = item.partition("=")
+        all_rows += rows_of(label, load(folder), a.metric)
+
+    columns = ["case", "spacing_m", "particles_1", "steps_1", "wall_s", "status", a.metric, f"{a.metric}_error_1",
+               "reference"]
+    with open(f"{a.out}.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns)
+        w.writeheader()
+        w.writerows(all_rows)
+
+    # Markdown: per case, value / error / wall at each spacing (coarsest first, as bench orders them).
+    cases = list(dict.fromkeys(r["case"] for r in all_rows))
+    spacings = sorted({r["spacing_m"] for r in all_rows}, reverse=True)
+    head = "| case | reference | " + " | ".join(f"dx = {s * 1e3:g} mm: value, error, particles, wall" for s in spacings) + " |"
+    print(head)
+    print("|" + "---|" * (2 + len(spacings)))
+    for c in cases:
+        by_dx = {r["spacing_m"]: r for r in all_rows if r["case"] == c}
+        ref = by_dx[spacings[0]]["reference"] if spacings[0] in by_dx else next(iter(by_dx.values()))["reference"]
+        ref_text = fmt(float(ref) * a.scale, 4) + f" {a.unit}" if ref != "finest spacing" else "finest spacing"
+        cells = []
+        for s in spacings:
+            r = by_dx.get(s)
+            if r is None or r[a.metric] is None:
+                cells.append(f"{r['status'] if r else 'not run'}")
+                continue
+            err = r[f"{a.metric}_error_1"]
+            cells.append(f"{fmt(r[a.metric] * a.scale, 4)} {a.unit}, "
+                         f"{(f'{100 * err:+.1f} %') if err is not None else '-'}, "
+                         f"{int(r['particles_1']):,}, {r['wall_s']:.0f} s")
+        print(f"| {c} | {ref_text} | " + " | ".join(cells) + " |")
+    # Mean absolute error over the cases that have a reference of their own (a measurement, an analytic
+    # value), per spacing: the figure an issue's "mean absolute error" target is stated in.
+    for s in spacings:
+        errs = [abs(r[f"{a.metric}_error_1"]) for r in all_rows
+                if r["spacing_m"] == s and r["reference"] != "finest spacing" and r[f"{a.metric}_error_1"] is not None]
+        if errs:
+            print(f"\nmean |error| at dx = {s * 1e3:g} mm over {len(errs)} cases with a reference: {100 * sum(errs) / len(errs):.1f} %", end="")
+    print()
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for c in cases:
+        pts = [(r["wall_s"], abs(r[f"{a.metric}_error_1"])) for r in all_rows
+               if r["case"] == c and r[f"{a.metric}_error_1"] not in (None, 0.0) and r["wall_s"]]
+        if not pts:
+            continue
+        style = "-o" if all_rows and next(r for r in all_rows if r["case"] == c)["reference"] != "finest spacing" else "--s"
+        ax.plot([x for x, _ in pts], [y for _, y in pts], style, label=c)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel(f"|relative error| of {a.metric}")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    ax.set_title("solid: against the reference; dashed: against the finest spacing", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(f"{a.out}.png", dpi=110)
+
+
+if __name__ == "__main__":
+    main()
