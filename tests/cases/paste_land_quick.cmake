@@ -7,22 +7,15 @@ case_metric(length extrudate_length_m)
 case_metric(steady steady_extrusion_pressure_Pa)
 case_metric(scatter steady_extrusion_pressure_scatter_Pa)
 case_metric(peak_force peak_force_N)
-case_metric(sectors sector_count)
-string(JSON multiplier GET "${summary}" symmetry multiplier)
 message(STATUS "status ${status}, extruded particles (below the land exit) ${extruded}, extrudate ${length} m, "
                "steady P_ex ${steady} Pa +- ${scatter} Pa, peak force ${peak_force} N, max kinetic/work ${ratio}, "
                "wall ${wall} s")
 # The run ends when the ram has travelled the stroke (the process's end), before run.end_time.
 expect_status(process_finished "the stroke reached")
-# The process's sector count must be the core's multiplier, or the ram force is wrongly scaled (eq. 70).
-if(NOT sectors EQUAL multiplier)
-  message(FATAL_ERROR "process.sector_count ${sectors} differs from the symmetry multiplier ${multiplier}")
-endif()
+expect_sector_count_matches_symmetry()
 # Material must have passed the whole 10 mm land: some particles (a sector's share of a layer)
 # below its exit.
-if(extruded LESS 5)
-  message(FATAL_ERROR "the land was not passed: ${extruded} particles below its exit")
-endif()
+expect_land_passed(${extruded})
 expect_quasi_static()
 # Lower bound (eq. 77): ideal work of the area reduction, 2 sigma_y ln(D0/D) = 1.61 MPa, plus the
 # land's wall yield stress alone, 4 (L/D) tau_0 = 0.24 MPa: 1.85 MPa.

@@ -39,6 +39,24 @@ function(expect_quasi_static)
   endif()
 endfunction()
 
+# A ram-extrusion sector: the process's sector count must equal the core's symmetry multiplier, or the
+# ram force, summed over the sector's particles, is wrongly scaled to the full body (eq. 70).
+function(expect_sector_count_matches_symmetry)
+  string(JSON sectors GET "${summary}" metrics sector_count)
+  string(JSON multiplier GET "${summary}" symmetry multiplier)
+  if(NOT sectors EQUAL multiplier)
+    message(FATAL_ERROR "process.sector_count ${sectors} differs from the symmetry multiplier ${multiplier}")
+  endif()
+endfunction()
+
+# A die with a land: material passed the whole land, at least a sector's share of a particle layer
+# (5 particles) below its exit.
+function(expect_land_passed extruded)
+  if(extruded LESS 5)
+    message(FATAL_ERROR "the land was not passed: ${extruded} particles below its exit")
+  endif()
+endfunction()
+
 # Fails when `value` is below the physical lower bound `bound` (named by `what`).
 function(expect_at_least value bound what)
   if(value LESS bound)
