@@ -5,7 +5,7 @@ Each bench folder has bench.json (per spacing: particles, steps, wall time, metr
 errors against the bench's reference). This script takes one metric and writes, for all folders:
   OUT.csv  case, spacing_m, particles_1, steps_1, wall_s, status, <metric>, <metric>_error_1 (signed:
            (value - reference) / reference), reference (the value, or "finest spacing")
-  OUT.png  relative error of the metric against wall time, one polyline per case (log-log); cases
+  OUT.png  |relative error| of the metric against wall time, one polyline per case (log-log); cases
            without a reference (errors against their own finest spacing) are drawn dashed
 and prints a Markdown table (one row per case, one column group per spacing) on stdout.
 
@@ -49,7 +49,7 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--metric", required=True)
     p.add_argument("--scale", type=float, default=1.0, help="factor applied to the metric in the table")
-    p.add_argument("--unit", default="", help="unit of the scaled metric, for the table header")
+    p.add_argument("--unit", default="", help="unit of the scaled metric, written after each value in the table")
     p.add_argument("out")
     p.add_argument("benches", nargs="+", metavar="LABEL=BENCH_DIR")
     a = p.parse_args()
@@ -74,7 +74,7 @@ def main():
     print("|" + "---|" * (2 + len(spacings)))
     for c in cases:
         by_dx = {r["spacing_m"]: r for r in all_rows if r["case"] == c}
-        ref = by_dx[spacings[0]]["reference"] if spacings[0] in by_dx else next(iter(by_dx.values()))["reference"]
+        ref = next(iter(by_dx.values()))["reference"]  # one reference per bench
         ref_text = fmt(float(ref) * a.scale, 4) + f" {a.unit}" if ref != "finest spacing" else "finest spacing"
         cells = []
         for s in spacings:
@@ -102,11 +102,12 @@ def main():
 
     fig, ax = plt.subplots(figsize=(7, 5))
     for c in cases:
-        pts = [(r["wall_s"], abs(r[f"{a.metric}_error_1"])) for r in all_rows
-               if r["case"] == c and r[f"{a.metric}_error_1"] not in (None, 0.0) and r["wall_s"]]
+        rows = [r for r in all_rows if r["case"] == c]
+        pts = [(r["wall_s"], abs(r[f"{a.metric}_error_1"])) for r in rows
+               if r[f"{a.metric}_error_1"] not in (None, 0.0) and r["wall_s"]]
         if not pts:
             continue
-        style = "-o" if all_rows and next(r for r in all_rows if r["case"] == c)["reference"] != "finest spacing" else "--s"
+        style = "-o" if rows[0]["reference"] != "finest spacing" else "--s"
         ax.plot([x for x, _ in pts], [y for _, y in pts], style, label=c)
     ax.set_xscale("log")
     ax.set_yscale("log")
