@@ -73,8 +73,9 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
     // Corrected gradient L = G M^-1 (eq. 3b), exact for linear fields also where the
     // neighbourhood is truncated (walls, free surfaces). M is dimensionless (I on a full,
     // regular neighbourhood), so its conditioning can be judged without units: where
-    // det M < 0.05 or the inverse is large, too few neighbours span some direction and the
-    // uncorrected gradient (M = I) is used instead.
+    // det M <= 1e-3 or cond(M) = |M|_F |M^-1|_F >= 1000, too few neighbours span some direction
+    // and the uncorrected gradient (M = I) is used instead. (Conditions of 30-160 are accepted and
+    // occur at the ram face of thin paste billets: docs/validation/ram_extrusion.md, section 2b.)
     const double mom6[6] = {m0, m1, m2, m3, m4, m5};
     double mom[9];
     for (int a = 0; a < 3; ++a)
