@@ -43,7 +43,7 @@ double period_at(const std::string& spacing, const std::string& order = "first")
   return period;
 }
 
-// Both checks in one test because they share the first-order H/4 run (28 s of the ~200 s on one
+// Both checks in one test because they share the first-order H/4 run (28 s of about 320 s on one
 // thread); as two tests, ctest ran it twice.
 //
 // 1. Convergence: the first-order error falls from H/4 to H/6 with an observed order above 1.
@@ -55,7 +55,7 @@ double period_at(const std::string& spacing, const std::string& order = "first")
 // bending stiffness across 4 particles (+3.3 %), the artificial stress (+1.9 %) and Timoshenko
 // (+0.6 %). Tolerance: the error must be at most half that of the first order at the same
 // spacing. Why half: of the first order's +34 %, the surface strain error alone accounts for about
-// +22 % (a stiffness of 0.67, the test above), so a remedy that works removes well over half of the
+// +22 % (a stiffness of 0.67), so a remedy that works removes well over half of the
 // error; a gradient that still evaluated the outer fibres' strain inside the beam would fail.
 // Cost on one thread (2026-12-01): H/4 first order 28 s, H/4 second order 142 s (5x per step), H/6
 // first order about 150 s.
