@@ -5,6 +5,8 @@ case_metric(extruded extruded_particles)
 case_metric(peak peak_force_N)
 message(STATUS "status ${status}, extruded particles ${extruded}, F_L ${peak} N, max kinetic/work ${ratio}, wall ${wall} s")
 expect_status(completed "the run reaches run.end_time")
+# The quick dry-ice cases are 90 deg sectors, like the paste quick cases.
+expect_sector_count_matches_symmetry()
 # Material must leave the die (the cavity is full at the start, so any ram travel extrudes).
 if(extruded LESS 1)
   message(FATAL_ERROR "nothing extruded")
