@@ -4,12 +4,17 @@
 Each bench folder has bench.json (per spacing: particles, steps, wall time, metrics and their relative
 errors against the bench's reference). This script takes one metric and writes, for all folders:
   OUT.csv  case, spacing_m, particles_1, steps_1, wall_s, status, <metric>, <metric>_error_1 (signed:
-           (value - reference) / reference), reference (the value, or "finest spacing")
+           (value - reference) / reference), reference (the value, or "finest spacing"), source
+           ("bench", or "sphforge run" for a row added with --run)
   OUT.png  |relative error| of the metric against wall time, one polyline per case (log-log); cases
            without a reference (errors against their own finest spacing) are drawn dashed
 and prints a Markdown table (one row per case, one column group per spacing) on stdout.
 
-usage: scripts/bench_collect.py --metric peak_force_N [--scale 1e-3 --unit kN] OUT LABEL=BENCH_DIR ...
+usage: scripts/bench_collect.py --metric peak_force_N [--scale 1e-3 --unit kN]
+           [--run LABEL=SPACING_M:RUN_DIR ...] OUT LABEL=BENCH_DIR ...
+--run adds a spacing that was not part of the bench but is the same case run by `sphforge run` (its
+summary.json; the spacing is given because summary.json does not hold it), with the bench's reference:
+a finer spacing that costs too much to run twice.
 (needs matplotlib for the plot)
 """
 import argparse
@@ -35,8 +40,21 @@ def rows_of(label, bench, metric):
         rows.append({"case": label, "spacing_m": run["spacing_m"], "particles_1": run.get("particles"),
                      "steps_1": run.get("steps"), "wall_s": run.get("wall_s"), "status": run.get("status"),
                      metric: value, f"{metric}_error_1": error,
-                     "reference": f"{ref_value}" if kind == "file" and ref_value is not None else "finest spacing"})
+                     "reference": f"{ref_value}" if kind == "file" and ref_value is not None else "finest spacing",
+                     "source": "bench"})
     return rows
+
+
+def row_of_run(label, spacing_m, run_dir, bench_rows, metric):
+    """One `sphforge run` folder as a row of the bench LABEL, against that bench's reference."""
+    with open(f"{run_dir}/summary.json") as f:
+        summary = json.load(f)
+    ref = next(r["reference"] for r in bench_rows if r["case"] == label)
+    value = summary.get("metrics", {}).get(metric)
+    error = (value - float(ref)) / float(ref) if value is not None and ref != "finest spacing" else None
+    return {"case": label, "spacing_m": spacing_m, "particles_1": summary.get("particles"),
+            "steps_1": summary.get("steps"), "wall_s": summary.get("wall_time_s"), "status": summary.get("status"),
+            metric: value, f"{metric}_error_1": error, "reference": ref, "source": "sphforge run"}
 
 
 def fmt(x, digits=3):
@@ -50,6 +68,8 @@ def main():
     p.add_argument("--metric", required=True)
     p.add_argument("--scale", type=float, default=1.0, help="factor applied to the metric in the table")
     p.add_argument("--unit", default="", help="unit of the scaled metric, written after each value in the table")
+    p.add_argument("--run", action="append", default=[], metavar="LABEL=SPACING_M:RUN_DIR",
+                   help="add a `sphforge run` folder of the same case as one more spacing of bench LABEL")
     p.add_argument("out")
     p.add_argument("benches", nargs="+", metavar="LABEL=BENCH_DIR")
     a = p.parse_args()
@@ -58,9 +78,16 @@ def main():
     for item in a.benches:
         label, _, folder = item.partition("=")
         all_rows += rows_of(label, load(folder), a.metric)
+    for item in a.run:
+        label, _, rest = item.partition("=")
+        spacing, _, folder = rest.partition(":")
+        all_rows.append(row_of_run(label, float(spacing), folder, all_rows, a.metric))
+    # Coarsest first within each case, as bench orders its own runs.
+    order = {c: i for i, c in enumerate(dict.fromkeys(r["case"] for r in all_rows))}
+    all_rows.sort(key=lambda r: (order[r["case"]], -r["spacing_m"]))
 
     columns = ["case", "spacing_m", "particles_1", "steps_1", "wall_s", "status", a.metric, f"{a.metric}_error_1",
-               "reference"]
+               "reference", "source"]
     with open(f"{a.out}.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=columns)
         w.writeheader()
