@@ -81,6 +81,8 @@ def main():
     for item in a.run:
         label, _, rest = item.partition("=")
         spacing, _, folder = rest.partition(":")
+        if not any(r["case"] == label for r in all_rows):
+            p.error(f"--run {item}: no bench is labelled '{label}'")
         all_rows.append(row_of_run(label, float(spacing), folder, all_rows, a.metric))
     # Coarsest first within each case, as bench orders its own runs.
     order = {c: i for i, c in enumerate(dict.fromkeys(r["case"] for r in all_rows))}
