@@ -28,33 +28,34 @@ def load(bench_dir):
         return json.load(f)
 
 
+def make_row(metric, label, spacing_m, particles, steps, wall_s, status, value, ref_value, ref_text, source):
+    """One row of OUT.csv; the signed error is computed here only."""
+    # Signed, unlike bench.json's |value - ref| / |ref|: whether a spacing over- or under-predicts matters.
+    error = (value - ref_value) / ref_value if value is not None and ref_value else None
+    return {"case": label, "spacing_m": spacing_m, "particles_1": particles, "steps_1": steps, "wall_s": wall_s,
+            "status": status, metric: value, f"{metric}_error_1": error, "reference": ref_text, "source": source}
+
+
 def rows_of(label, bench, metric):
     ref = bench["reference"]
     ref_value = ref.get("metrics", {}).get(metric)
-    kind = ref.get("kind", "")
-    rows = []
-    for run in bench["runs"]:
-        value = run.get("metrics", {}).get(metric)
-        # Signed, unlike bench.json's |value - ref| / |ref|: whether a spacing over- or under-predicts matters.
-        error = (value - ref_value) / ref_value if value is not None and ref_value else None
-        rows.append({"case": label, "spacing_m": run["spacing_m"], "particles_1": run.get("particles"),
-                     "steps_1": run.get("steps"), "wall_s": run.get("wall_s"), "status": run.get("status"),
-                     metric: value, f"{metric}_error_1": error,
-                     "reference": f"{ref_value}" if kind == "file" and ref_value is not None else "finest spacing",
-                     "source": "bench"})
-    return rows
+    ref_text = f"{ref_value}" if ref.get("kind", "") == "file" and ref_value is not None else "finest spacing"
+    return [make_row(metric, label, run["spacing_m"], run.get("particles"), run.get("steps"), run.get("wall_s"),
+                     run.get("status"), run.get("metrics", {}).get(metric), ref_value, ref_text, "bench")
+            for run in bench["runs"]]
 
 
 def row_of_run(label, spacing_m, run_dir, bench_rows, metric):
     """One `sphforge run` folder as a row of the bench LABEL, against that bench's reference."""
     with open(f"{run_dir}/summary.json") as f:
         summary = json.load(f)
-    ref = next(r["reference"] for r in bench_rows if r["case"] == label)
-    value = summary.get("metrics", {}).get(metric)
-    error = (value - float(ref)) / float(ref) if value is not None and ref != "finest spacing" else None
-    return {"case": label, "spacing_m": spacing_m, "particles_1": summary.get("particles"),
-            "steps_1": summary.get("steps"), "wall_s": summary.get("wall_time_s"), "status": summary.get("status"),
-            metric: value, f"{metric}_error_1": error, "reference": ref, "source": "sphforge run"}
+    ref_text = next(r["reference"] for r in bench_rows if r["case"] == label)
+    # A bench without a reference file measures against its own finest spacing, which a finer added run
+    # would not share: no error for that row.
+    ref_value = float(ref_text) if ref_text != "finest spacing" else None
+    return make_row(metric, label, spacing_m, summary.get("particles"), summary.get("steps"),
+                    summary.get("wall_time_s"), summary.get("status"), summary.get("metrics", {}).get(metric),
+                    ref_value, ref_text, "sphforge run")
 
 
 def fmt(x, digits=3):
