@@ -113,7 +113,7 @@ def main():
     slabs = np.arange(z_top - 1e-3, z_exit + 1e-3 - 1e-9, -1e-3)
     inner_length = z_top - z_exit - 2e-3
     rows = []
-    plastic = []  # (time, plastic dissipation rate W) between consecutive frames
+    plastic = []  # (total, above the land's top) plastic dissipation rate (W) between consecutive frames
     previous = None
     for u, p_ex, path, time in frames:
         f = read_frame(path)
@@ -132,11 +132,15 @@ def main():
         z, r = x[:, 2], np.hypot(x[:, 0], x[:, 1])
         fz = f["contact_force"][:, 2]
         bore = r < Rd + dx
-        profile = []
-        for zc in slabs:
+        centres, profile = [], []
+        for zc in slabs:  # empty slabs (a land shorter than 2 mm plus dx, a gap) are skipped
             s = bore & (np.abs(z - zc) < 0.5 * dx)
-            profile.append((volume[s] * axial_stress[s]).sum() / volume[s].sum())
-        gradient, intercept = np.polyfit(slabs, profile, 1)
+            if s.any():
+                centres.append(zc)
+                profile.append((volume[s] * axial_stress[s]).sum() / volume[s].sum())
+        if len(centres) < 2:
+            raise SystemExit(f"{path}: fewer than two occupied slabs in the land; check --land-top and --land-exit")
+        gradient, intercept = np.polyfit(centres, profile, 1)
         p2 = gradient * z_top + intercept
         barrel = (r > R0 - 1.2 * dx) & (z > 1e-3) & (z < z.max() - 2e-3)
         p_barrel = sectors * fz[barrel].sum() / A0
