@@ -6,7 +6,6 @@ billet thermocouples) and heat rates, against process time. Several runs are ove
 usage: scripts/fe_plots.py OUT_PREFIX LABEL=RUN_DIR [LABEL=RUN_DIR ...]
 writes OUT_PREFIX_force.png, _displacement.png, _temperature.png, _heat.png (needs matplotlib)
 """
-import csv
 import sys
 
 import matplotlib
@@ -14,15 +13,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-def load(run):
-    with open(f"{run}/history.csv", newline="") as f:
-        rows = [r for r in csv.DictReader(f) if None not in r.values()]  # a run still writing: last row partial
-    return {k: [float(r[k]) if r[k] not in ("", "nan") else float("nan") for r in rows] for k in rows[0]}
+from run_output import load_history  # noqa: E402
 
 
 def main(prefix, runs):
-    data = [(label, load(run)) for label, run in runs]
+    data = [(label, load_history(run)) for label, run in runs]
     figs = {
         "force": [("extrusion_force_N", 1e-3, "extrusion force (kN)"), ("extrusion_torque_Nm", 1.0, "die torque (N m)")],
         "displacement": [("die_displacement_m", 1e3, "die displacement (mm)"),

@@ -9,25 +9,12 @@ particles wider than 1.5 dx (the lattice neighbours are dx apart; a missing part
 
 usage: scripts/fe_wire.py RUN_DIR BORE_RADIUS_MM DX_MM [FRAME_INDEX]   (needs python3-vtk9 and numpy)
 """
-import csv
 import glob
 import sys
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
-
-def read_frame(path):
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    pd = grid.GetPointData()
-    fields = {pd.GetArrayName(k): vtk_to_numpy(pd.GetArray(k)) for k in range(pd.GetNumberOfArrays())}
-    fields["position"] = vtk_to_numpy(grid.GetPoints().GetData())
-    time = grid.GetFieldData().GetArray("TimeValue")
-    return fields, float(time.GetValue(0))
+from run_output import load_history, read_frame
 
 
 def main(run, bore_radius, dx, frame=-1):
@@ -35,15 +22,14 @@ def main(run, bore_radius, dx, frame=-1):
     if not frames:
         sys.exit(f"{run}: no particles_*.vtu frames")
     d, t = read_frame(frames[frame])
-    with open(f"{run}/history.csv", newline="") as f:
-        rows = [r for r in csv.DictReader(f) if None not in r.values()]
-    row = min(rows, key=lambda q: abs(float(q["time_s"]) - t))
-    face = float(row["die_position_m"])
+    history = load_history(run)
+    k = int(np.argmin(np.abs(np.array(history["time_s"]) - t)))  # the history row nearest the frame
+    face = history["die_position_m"][k]
     x, body, eps = d["position"], d["body"], d["plastic_strain"]
     r = np.hypot(x[:, 0], x[:, 1])
     wire = (body == 0) & (x[:, 2] > face) & (r < bore_radius + 0.5 * dx)
     n = int(wire.sum())
-    print(f"{frames[frame]}: process time {float(row['process_time_s']):.2f} s, die face z = {face * 1e3:.2f} mm, "
+    print(f"{frames[frame]}: process time {history['process_time_s'][k]:.2f} s, die face z = {face * 1e3:.2f} mm, "
           f"{n} wire particles")
     if n == 0:
         return

@@ -39,44 +39,26 @@ usage: scripts/ram_split.py RUN_DIR --spacing 0.75 --land-top -11 --land-exit -2
 (needs numpy and VTK's Python module: python3-vtk9)
 """
 import argparse
-import csv
 import json
 import math
 import re
 
 import numpy as np
-import vtk
-from vtk.util.numpy_support import vtk_to_numpy
+
+from run_output import load_history, read_frame
 
 
-def frames_in_window(run, u0, u1):
-    with open(f"{run}/history.csv") as f:
-        rows = list(csv.DictReader(f))
-    t = np.array([float(r["time_s"]) for r in rows])
-    u = np.array([float(r["ram_displacement_m"]) for r in rows])
-    p_ex = np.array([float(r["extrusion_pressure_Pa"]) for r in rows])
-    v_ex = np.array([float(r["extrudate_velocity_m_s"]) for r in rows])
+def frames_in_window(run, history, u0, u1):
+    """(ram displacement, P_ex, path, time) of each frame whose displacement lies in [u0, u1]."""
+    t, u, p_ex = (np.array(history[k]) for k in ("time_s", "ram_displacement_m", "extrusion_pressure_Pa"))
     with open(f"{run}/particles.pvd") as f:
         listed = re.findall(r'timestep="([^"]+)"[^>]*file="([^"]+)"', f.read())
-    window = (u >= u0 - 1e-12) & (u <= u1 + 1e-12)
     picked = []
     for ts, name in listed:
         uu = float(np.interp(float(ts), t, u))
         if u0 - 1e-12 <= uu <= u1 + 1e-12:
             picked.append((uu, float(np.interp(float(ts), t, p_ex)), f"{run}/{name}", float(ts)))
-    return picked, p_ex[window].mean(), v_ex[window].mean(), rows
-
-
-def read_frame(path):
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    data = grid.GetPointData()
-    arrays = {name: vtk_to_numpy(data.GetArray(name)) for name in
-              ("mass", "density", "pressure", "deviatoric_stress", "contact_force", "velocity", "plastic_strain", "id")}
-    arrays["x"] = vtk_to_numpy(grid.GetPoints().GetData())
-    return arrays
+    return picked
 
 
 def main():
@@ -107,7 +89,12 @@ def main():
     tau0, beta, n_exp = a.navier
     tau_w = lambda v: tau0 + beta * max(v, 0.0) ** n_exp
 
-    frames, p_window, v_window, history = frames_in_window(a.run, u0, u1)
+    history = {k: np.array(v) for k, v in load_history(a.run).items()}
+    t, u_hist = history["time_s"], history["ram_displacement_m"]
+    in_window = (u_hist >= u0 - 1e-12) & (u_hist <= u1 + 1e-12)
+    p_window = history["extrusion_pressure_Pa"][in_window].mean()
+    v_window = history["extrudate_velocity_m_s"][in_window].mean()
+    frames = frames_in_window(a.run, history, u0, u1)
     if not frames:
         raise SystemExit(f"{a.run}: no VTU frame with a ram displacement in {u0*1e3:g}-{u1*1e3:g} mm")
     slabs = np.arange(z_top - 1e-3, z_exit + 1e-3 - 1e-9, -1e-3)
@@ -116,17 +103,17 @@ def main():
     plastic = []  # (total, above the land's top) plastic dissipation rate (W) between consecutive frames
     previous = None
     for u, p_ex, path, time in frames:
-        f = read_frame(path)
+        f, _ = read_frame(path)
         if a.yield_stress:
             order = np.argsort(f["id"])
-            state = (time, f["id"][order], f["plastic_strain"][order], (f["mass"] / f["density"])[order], f["x"][order, 2])
+            state = (time, f["id"][order], f["plastic_strain"][order], (f["mass"] / f["density"])[order], f["position"][order, 2])
             if previous is not None and np.array_equal(previous[1], state[1]):
                 work = 0.5 * (state[3] + previous[3]) * (state[2] - previous[2])  # V d(eps_p)
                 above = 0.5 * (state[4] + previous[4]) > z_top  # where the particle was mid-interval
                 scale = sectors * a.yield_stress * 1e6 / (time - previous[0])
                 plastic.append((scale * work.sum(), scale * work[above].sum()))
             previous = state
-        x, m, rho = f["x"], f["mass"], f["density"]
+        x, m, rho = f["position"], f["mass"], f["density"]
         volume = m / rho
         axial_stress = f["pressure"] - f["deviatoric_stress"][:, 2]  # -sigma_zz
         z, r = x[:, 2], np.hypot(x[:, 0], x[:, 1])
@@ -185,14 +172,12 @@ def main():
           f"speed {mean['speed']:.4f} m/s (next to the wall {mean['wall_speed']:.4f}; V_ex {v_window:.4f}), tau_w there {tau_w(mean['speed'])/1e3:.1f} kPa; "
           f"packing {mean['packing']:.3f}")
     if a.yield_stress and plastic:
-        col = lambda k: np.array([float(r[k]) for r in history])
-        t, u_hist = col("time_s"), col("ram_displacement_m")
         ti = [frames[0][3], frames[-1][3]]
-        rate = lambda k: sectors * (np.interp(ti[1], t, col(k)) - np.interp(ti[0], t, col(k))) / (ti[1] - ti[0])
+        rate = lambda k: sectors * (np.interp(ti[1], t, history[k]) - np.interp(ti[0], t, history[k])) / (ti[1] - ti[0])
         flux = A0 * (np.interp(ti[1], t, u_hist) - np.interp(ti[0], t, u_hist)) / (ti[1] - ti[0])
-        work, internal, kinetic = rate("tool_work_J"), rate("internal_energy_J"), rate("kinetic_energy_J")
+        work, internal = rate("tool_work_J"), rate("internal_energy_J")  # the rest holds the kinetic part
         sel = (t >= ti[0]) & (t <= ti[1])
-        heat = {k[:-len("_friction_heat_W")]: sectors * col(k)[sel].mean() for k in history[0] if k.endswith("_friction_heat_W")}
+        heat = {k[:-len("_friction_heat_W")]: sectors * v[sel].mean() for k, v in history.items() if k.endswith("_friction_heat_W")}
         dissipation = float(np.mean([p[0] for p in plastic]))
         dissipation_above = float(np.mean([p[1] for p in plastic]))
         mpa = lambda w: w / flux / 1e6
