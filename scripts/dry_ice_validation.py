@@ -15,16 +15,18 @@ import os
 import subprocess
 import sys
 
+from run_output import load_history
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DIES = ["CS50", "CS75", "CS100", "CS150", "WK20", "WK45", "WK70", "WP20", "WP45", "WP70",
         "WKWP70-25", "WKWP70-50", "WKWP70-75"]
 
 
 def peak_force(run_dir):
-    with open(os.path.join(run_dir, "history.csv"), newline="") as f:
-        rows = list(csv.DictReader(f))
-    best = max(rows, key=lambda r: float(r["ram_force_N"]))
-    return float(best["ram_force_N"]), float(best["ram_displacement_m"])
+    history = load_history(run_dir)
+    force = history["ram_force_N"]
+    k = max(range(len(force)), key=force.__getitem__)  # the first row at the peak
+    return force[k], history["ram_displacement_m"][k]
 
 
 def main():
