@@ -8,16 +8,20 @@ usage: scripts/fe_tracers.py RUN_DIR   (writes RUN_DIR/tracers.csv)
 """
 import csv
 import math
+import os
 import re
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from run_output import load_history  # noqa: E402
+
 
 def main(run_dir: str) -> None:
-    with open(f"{run_dir}/history.csv", newline="") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
+    try:
+        history = load_history(run_dir)
+    except IndexError:
         sys.exit(f"{run_dir}/history.csv holds no rows")
-    names = sorted({m.group(1) for k in rows[0] for m in [re.match(r"tracer_(P\d+)_x_m$", k)] if m},
+    names = sorted({m.group(1) for k in history for m in [re.match(r"tracer_(P\d+)_x_m$", k)] if m},
                    key=lambda p: int(p[1:]))
     if not names:
         sys.exit(f"{run_dir}/history.csv has no tracer columns (not a friction_extrusion run?)")
@@ -25,12 +29,13 @@ def main(run_dir: str) -> None:
         w = csv.writer(f)
         w.writerow(["process_time_s", "tracer", "x_m", "y_m", "z_m", "r_m", "theta_rad", "temperature_K",
                     "plastic_strain_1"])
-        for row in rows:
+        rows = len(history["process_time_s"])
+        for i in range(rows):
             for p in names:
-                x, y, z = (float(row[f"tracer_{p}_{c}_m"]) for c in "xyz")
-                w.writerow([row["process_time_s"], p, x, y, z, math.hypot(x, y), math.atan2(y, x),
-                            row[f"tracer_{p}_temperature_K"], row[f"tracer_{p}_plastic_strain_1"]])
-    print(f"{run_dir}/tracers.csv: {len(names)} tracers x {len(rows)} rows")
+                x, y, z = (history[f"tracer_{p}_{c}_m"][i] for c in "xyz")
+                w.writerow([history["process_time_s"][i], p, x, y, z, math.hypot(x, y), math.atan2(y, x),
+                            history[f"tracer_{p}_temperature_K"][i], history[f"tracer_{p}_plastic_strain_1"][i]])
+    print(f"{run_dir}/tracers.csv: {len(names)} tracers x {rows} rows")
 
 
 if __name__ == "__main__":

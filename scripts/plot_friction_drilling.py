@@ -7,21 +7,24 @@ usage: plot_friction_drilling.py OUT.svg LABEL=RUN_DIR [LABEL=RUN_DIR ...]
 Experimental references (cases/friction_drilling/reference/friction_drilling.md) are drawn as dashed
 lines: 639 N, 445 degC, 4.34 mm.
 """
-import csv
+import math
+import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from run_output import load_history  # noqa: E402
+
 PANELS = [
-    ("axial force (N)", lambda r: float(r["axial_force_N"]), 639.0),
-    ("torque (N m)", lambda r: float(r["torque_Nm"]), None),
-    ("thermocouple, 4 mm (degC)", lambda r: float(r["probe_temperature_K"]) - 273.15, 445.0),
-    ("bushing length, total (mm)", lambda r: 1e3 * float(r["bushing_total_m"]), 4.34),
+    ("axial force (N)", lambda h, i: h["axial_force_N"][i], 639.0),
+    ("torque (N m)", lambda h, i: h["torque_Nm"][i], None),
+    ("thermocouple, 4 mm (degC)", lambda h, i: h["probe_temperature_K"][i] - 273.15, 445.0),
+    ("bushing length, total (mm)", lambda h, i: 1e3 * h["bushing_total_m"][i], 4.34),
 ]
 COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"]
 W, H, ML, MR, MT, MB = 520, 260, 70, 20, 30, 40
 
 
 def nice_max(v):
-    import math
     if v <= 0:
         return 1.0
     e = 10 ** math.floor(math.log10(v))
@@ -35,15 +38,16 @@ def main():
     out, runs = sys.argv[1], [a.split("=", 1) for a in sys.argv[2:]]
     data = []
     for label, folder in runs:
-        # A run still in progress may end in a partly written row: keep complete rows only.
-        rows = [r for r in csv.DictReader(open(f"{folder}/history.csv")) if None not in r.values() and r.get("bushing_total_m")]
-        data.append((label, [float(r["process_time_s"]) for r in rows], rows))
+        # load_history drops a partly written last row; rows without a bushing measurement are skipped.
+        h = load_history(folder)
+        rows = [i for i, b in enumerate(h["bushing_total_m"]) if not math.isnan(b)]
+        data.append((label, [h["process_time_s"][i] for i in rows], (h, rows)))
     tmax = nice_max(max(max(t) for _, t, _ in data))
     svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{2 * W}" height="{2 * H + 30}" font-family="sans-serif" font-size="12">',
            '<rect width="100%" height="100%" fill="white"/>']
     for k, (title, get, ref) in enumerate(PANELS):
         ox, oy = (k % 2) * W, (k // 2) * H + 30
-        values = [[get(r) for r in rows] for _, _, rows in data]
+        values = [[get(h, i) for i in rows] for _, _, (h, rows) in data]
         vmax = nice_max(max([max(v) for v in values] + [ref or 0.0]) * 1.05)
         px = lambda t: ox + ML + (W - ML - MR) * t / tmax
         py = lambda v: oy + H - MB - (H - MT - MB) * max(0.0, v) / vmax
