@@ -28,8 +28,11 @@ constexpr const char* kDefaultCase = "cases/ram_extrusion/paste_orifice_quick.js
 void usage(std::ostream& out) {
   out << "sphforge " << kCoreVersion << " - SPH workbench for thermo-mechanical forming processes\n\n"
       << "usage:\n"
-      << "  sphforge run [CASE] [--out DIR] [--set key.path=value]... [--quiet] [--force]\n"
+      << "  sphforge run [CASE] [--out DIR] [--set key.path=value]... [--quiet] [--force] [--restart FILE]\n"
       << "      run a case (default: the bundled " << kDefaultCase << ")\n"
+      << "      --restart: continue from a checkpoint_NNNNNN.h5 of an earlier run of the same case into a\n"
+      << "      new folder (run.checkpoint_interval writes them; only \"run\" may change, e.g.\n"
+      << "      --set run.end_time=...). See docs/checkpoints.md\n"
       << "  sphforge check CASE [--set key.path=value]...\n"
       << "      validate a case, build its scene and list passes and fields, without running\n"
       << "  sphforge bench [CASE] --spacing DX,DX,... [--parameter KEY] [--reference FILE] [--out DIR]\n"
@@ -63,6 +66,7 @@ struct Options {
   std::vector<std::string> overrides;
   bool quiet = false, force = false, json = false;
   std::optional<std::string> spacing, parameter, reference;  // bench only
+  std::optional<std::string> restart;                       // run only
 };
 
 Options parse(int argc, char** argv) {
@@ -84,6 +88,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--spacing") o.spacing = value("--spacing");
     else if (a == "--parameter") o.parameter = value("--parameter");
     else if (a == "--reference") o.reference = value("--reference");
+    else if (a == "--restart") o.restart = value("--restart");
     else if (!a.empty() && a[0] == '-') throw InputError("", "", "unknown option '" + a + "'; see sphforge --help");
     else if (o.case_path.empty()) o.case_path = a;
     else throw InputError("", "", "unexpected argument '" + a + "'");
@@ -93,6 +98,7 @@ Options parse(int argc, char** argv) {
                                       std::pair{"--parameter", o.parameter.has_value()},
                                       std::pair{"--reference", o.reference.has_value()}})
       if (given) throw InputError("", "", std::string(name) + " is an option of bench, not of " + o.command);
+  if (o.restart && o.command != "run") throw InputError("", "", "--restart is an option of run, not of " + o.command);
   return o;
 }
 
@@ -164,11 +170,16 @@ int run_case(const Options& o) {
   const CaseDocument doc = load_case(path, o.overrides);
   // Everything the user supplied is validated (and the scene built) before a file is written.
   Simulation sim(doc, loader);
+  if (o.restart) sim.restore(*o.restart);
   const fs::path out = output_folder(o, sim.settings().case_name);
+  // The restarted run reads the earlier run's history.csv: it must not write over it.
+  if (o.restart && fs::exists(out) && fs::equivalent(out, fs::absolute(*o.restart).parent_path()))
+    throw InputError(*o.restart, "", "--out is the folder of this checkpoint; a restarted run writes a new folder");
   const ProgressMode mode = o.quiet ? ProgressMode::Quiet : ProgressMode::Auto;
   if (!o.quiet)
-    std::cerr << "sphforge: running '" << sim.settings().case_name << "' (" << sim.particle_count()
-              << " particles, " << omp_get_max_threads() << " threads) -> " << out.string() << "\n";
+    std::cerr << "sphforge: " << (o.restart ? "restarting" : "running") << " '" << sim.settings().case_name << "' ("
+              << sim.particle_count() << " particles, " << omp_get_max_threads() << " threads) -> " << out.string()
+              << "\n";
   const Simulation::RunResult result = sim.run(out, mode);
   if (result.exit_code != 0) {
     std::cerr << "error: " << result.message << "\n"

@@ -429,6 +429,131 @@ TEST_F(Cli, FinalHistoryRowAndFrameAreNotDuplicated) {
   EXPECT_EQ(tools.size(), 3 * frames.size());
 }
 
+// --- restart checkpoints (docs/checkpoints.md) -------------------------------------------------
+
+TEST_F(Cli, RestartFromACheckpointRepeatsTheUninterruptedRunExactly) {
+  // The tiny scene with a PID on the ram (integral, sampling instants and held command) and Coulomb
+  // friction (the friction laws' memory), so that the plugins' restart state is exercised. One
+  // thread: OpenMP's sum reductions combine partial sums in arrival order, which would make even
+  // two uninterrupted runs differ in the last bits.
+  const std::string pid =
+      R"({"plugin": "pid", "name": "ram_pid", "measured": "ram_force", "command": "ram_velocity",)"
+      R"( "target": "300 N", "kp": "2e-6 m/s/N", "ki": "2e-5 m/s/N/s", "kd": "0 m/N",)"
+      R"( "command_limits": ["0 mm/s", "3 mm/s"], "sample_interval": "0.002 s"})";
+  const std::vector<std::string> scene =
+      concat({"--set", "controllers.0=" + pid, "--set", "run.threads=1", "--set", "run.end_time=0.06 s", "--set",
+              "run.output_interval=0.01 s", "--set", "run.history_interval=0.001 s", "--quiet"},
+             kTinyCase);
+  const fs::path a = root() / "a", b = root() / "b", c = root() / "c";
+  // The command of the interrupted run again, with --restart (so the restarted run also checkpoints,
+  // and rebuilds its neighbour lists after each checkpoint as the uninterrupted one does).
+  const std::vector<std::string> checkpoints = concat(scene, {"--set", "run.checkpoint_interval=0.025 s"});
+  Result r = run(concat({"run", kQuickCase, "--out", a.string()}, checkpoints));
+  ASSERT_EQ(r.code, 0) << describe(r);
+  // At 0.025 s and 0.05 s, and one at the end.
+  for (const char* f : {"checkpoint_000000.h5", "checkpoint_000001.h5", "checkpoint_000002.h5"})
+    ASSERT_TRUE(fs::is_regular_file(a / f)) << f;
+  EXPECT_FALSE(fs::exists(a / "checkpoint_000003.h5"));
+  const json sa = json::parse(slurp(a / "summary.json"));
+  EXPECT_EQ(sa.at("checkpoints"), 3);
+
+  r = run(concat({"run", kQuickCase, "--out", b.string(), "--restart", (a / "checkpoint_000000.h5").string()},
+                 checkpoints));
+  ASSERT_EQ(r.code, 0) << describe(r);
+  const json sb = json::parse(slurp(b / "summary.json"));
+  const long long restart_step = sb.at("restart").at("step").get<long long>();
+  EXPECT_GT(restart_step, 0);
+  EXPECT_LT(restart_step, sa.at("steps").get<long long>() / 2 + 10);
+  EXPECT_GE(sb.at("restart").at("time_s").get<double>(), 0.025);
+  EXPECT_GT(sb.at("restart").at("history_rows_copied").get<int>(), 20);
+  // Step for step the same run: every history row (copied up to the checkpoint, computed after it)
+  // to the last bit of its %.17g text, and the same process metrics, steps and frames.
+  const std::string ha = slurp(a / "history.csv"), hb = slurp(b / "history.csv");
+  EXPECT_GT(lines_of(ha).size(), 50u);
+  EXPECT_EQ(ha, hb);
+  EXPECT_EQ(sb.at("metrics"), sa.at("metrics"));
+  EXPECT_EQ(sb.at("steps"), sa.at("steps"));
+  EXPECT_EQ(sb.at("simulated_time_s"), sa.at("simulated_time_s"));
+  EXPECT_EQ(sb.at("frames"), sa.at("frames"));
+  EXPECT_EQ(sb.at("kinetic_to_work_ratio_max"), sa.at("kinetic_to_work_ratio_max"));
+  // The new folder numbers its frames on from the checkpoint's; the last one is the same state.
+  const auto fa = read_pvd(a / "particles.pvd"), fb = read_pvd(b / "particles.pvd");
+  ASSERT_FALSE(fb.empty());
+  EXPECT_LT(fb.size(), fa.size());
+  EXPECT_EQ(fb.back().file, fa.back().file);
+  EXPECT_TRUE(slurp(b / fb.back().file) == slurp(a / fa.back().file)) << "the last frames differ";
+  // It numbers its checkpoints on from the one it started from.
+  EXPECT_FALSE(fs::exists(b / "checkpoint_000000.h5"));
+  EXPECT_TRUE(fs::is_regular_file(b / "checkpoint_000001.h5"));
+  EXPECT_TRUE(fs::is_regular_file(b / "checkpoint_000002.h5"));
+
+  // A finished run goes on from its last checkpoint with a later end time.
+  r = run(concat({"run", kQuickCase, "--out", c.string(), "--restart", (a / "checkpoint_000002.h5").string()},
+                 concat(scene, {"--set", "run.end_time=0.07 s"})));
+  ASSERT_EQ(r.code, 0) << describe(r);
+  const json sc = json::parse(slurp(c / "summary.json"));
+  EXPECT_GT(sc.at("steps").get<long long>(), sa.at("steps").get<long long>());
+  EXPECT_NEAR(sc.at("simulated_time_s").get<double>(), 0.07, 1e-4);
+}
+
+TEST_F(Cli, RestartRepeatsTheRunForEveryProcessPlugin) {
+  // Each process's own restart state (samples and peaks, bushing and maxima, probes and extents),
+  // with what the scenes add: phases with a PID (friction extrusion), thermal bodies attached to a
+  // rotating tool and the thermal pass's properties (eq. 26 time step), material separation.
+  struct Scene {
+    std::string file;
+    std::vector<std::string> sets;
+  };
+  const std::string src = SPHFORGE_SOURCE_DIR;
+  const std::vector<Scene> scenes = {
+      {src + "/cases/friction_extrusion/aa7075_pid_300kN_phases.json",
+       {"run.end_time=0.012 s", "run.history_interval=0.0005 s", "run.checkpoint_interval=0.005 s"}},
+      {src + "/cases/friction_drilling/hx220_m4_quick.json",
+       {"run.end_time=1e-4 s", "run.history_interval=2e-6 s", "run.checkpoint_interval=4e-5 s"}},
+      {src + "/cases/verification/tool_heat_rotating_die.json",
+       {"run.end_time=2 ms", "run.history_interval=0.02 ms", "run.checkpoint_interval=0.7 ms"}},
+  };
+  int k = 0;
+  for (const Scene& scene : scenes) {
+    SCOPED_TRACE(scene.file);
+    std::vector<std::string> args = {"--quiet", "--set", "run.threads=1"};
+    for (const std::string& set : scene.sets) args = concat(args, {"--set", set});
+    const fs::path a = root() / ("a" + std::to_string(k)), b = root() / ("b" + std::to_string(k));
+    ++k;
+    Result r = run(concat({"run", scene.file, "--out", a.string()}, args));
+    ASSERT_EQ(r.code, 0) << describe(r);
+    r = run(concat({"run", scene.file, "--out", b.string(), "--restart", (a / "checkpoint_000000.h5").string()}, args));
+    ASSERT_EQ(r.code, 0) << describe(r);
+    const json sa = json::parse(slurp(a / "summary.json")), sb = json::parse(slurp(b / "summary.json"));
+    EXPECT_GT(sb.at("restart").at("step").get<long long>(), 10);
+    EXPECT_GT(sb.at("steps").get<long long>(), sb.at("restart").at("step").get<long long>() + 10);
+    EXPECT_TRUE(slurp(a / "history.csv") == slurp(b / "history.csv")) << "history.csv differs";
+    EXPECT_EQ(sb.at("metrics"), sa.at("metrics"));
+    EXPECT_EQ(sb.at("steps"), sa.at("steps"));
+    if (sa.contains("phases")) EXPECT_EQ(sb.at("phases"), sa.at("phases"));
+  }
+}
+
+TEST_F(Cli, RestartIsRefusedForAnotherCaseAndAFileThatIsNoCheckpoint) {
+  const fs::path a = root() / "a";
+  Result r = run(concat({"run", kQuickCase, "--quiet", "--out", a.string(), "--set", "run.max_steps=5", "--set",
+                         "run.checkpoint_interval=1e-9 s"},
+                        kTinyCase));
+  ASSERT_EQ(r.code, 0) << describe(r);
+  const std::string checkpoint = (a / "checkpoint_000000.h5").string();
+  ASSERT_TRUE(fs::is_regular_file(checkpoint));
+  // Another scene: only "run" may change.
+  r = run(concat({"run", kQuickCase, "--restart", checkpoint, "--set", "process.stroke=2 mm"}, kTinyCase));
+  expect_input_error(r, kQuickCase, "/process/stroke", {"differs from the case that wrote", checkpoint});
+  // Not a checkpoint.
+  r = run(concat({"run", kQuickCase, "--restart", kQuickCase}, kTinyCase));
+  expect_input_error(r, kQuickCase, "", {"cannot restart from this file"});
+  r = run(concat({"run", kQuickCase, "--restart", (a / "missing.h5").string()}, kTinyCase));
+  expect_input_error(r, (a / "missing.h5").string(), "", {"no such file"});
+  // A plugin without restart state: tests/unit/test_checkpoint.cpp (a test-only process).
+  EXPECT_TRUE(fs::is_empty(work()));
+}
+
 // --- the executable links no plugin -----------------------------------------------------------
 
 TEST(CliLinking, ExecutableAndCoreLinkNoPlugin) {

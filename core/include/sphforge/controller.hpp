@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "sphforge/signals.hpp"
 
 namespace sphforge {
@@ -26,6 +28,16 @@ class Controller {
   virtual void update(double time_s, double dt_s) = 0;
   /// Extra history columns (e.g. error, P/I/D parts).
   virtual std::vector<HistoryColumn> history_columns() const { return {}; }
+
+  // Restart (checkpoint_NNNNNN.h5, `sphforge run --restart`; docs/checkpoints.md). A controller
+  // whose update() keeps memory between calls (an integral, the last sample) returns it from
+  // save_state() and takes it back in restore_state(); supports_restart() says that it does. The
+  // default is false: the core then refuses to checkpoint a case that uses the controller rather
+  // than continue it with its memory lost. Signal values need not be saved: the core saves every
+  // signal of the bus.
+  virtual bool supports_restart() const { return false; }
+  virtual nlohmann::json save_state() const { return nlohmann::json::object(); }
+  virtual void restore_state(const nlohmann::json& /*state*/) {}
 };
 
 }  // namespace sphforge

@@ -122,6 +122,17 @@ class Process {
   virtual std::vector<HistoryColumn> history_columns() const = 0;
   /// Metrics for summary.json at the end of the run.
   virtual nlohmann::json metrics() const { return nlohmann::json::object(); }
+
+  // Restart (checkpoint_NNNNNN.h5, `sphforge run --restart`; docs/checkpoints.md). The core saves
+  // the particle fields, the tools' poses, velocities and work, every signal of the bus and its own
+  // ledgers; a process saves what it accumulates over steps (window averages, peaks, samples)
+  // in save_state() and takes it back in restore_state(), which the core calls after initialize()
+  // on the rebuilt scene and after the fields are restored. supports_restart() says that it does;
+  // the default is false, and the core then refuses to checkpoint the case (exit 2) rather than
+  // continue it with the process's memory lost.
+  virtual bool supports_restart() const { return false; }
+  virtual nlohmann::json save_state() const { return nlohmann::json::object(); }
+  virtual void restore_state(const nlohmann::json& /*state*/) {}
 };
 
 }  // namespace sphforge

@@ -99,6 +99,11 @@ class PenaltyContact {
   /// Particle `id`'s friction memory with tool `tool`, or null when it has none (not touching):
   /// for the symmetry wrap, which transforms it as it transforms the vector fields (eq. 32).
   FrictionHistoryEntry* friction_history_entry(std::size_t tool, std::int64_t id);
+  /// Restart (docs/checkpoints.md): replaces tool `tool`'s friction memory with `entries`
+  /// (ascending ids, as friction_history() gave them).
+  void restore_friction_history(std::size_t tool, std::vector<FrictionHistoryEntry> entries) {
+    history_.at(tool) = std::move(entries);
+  }
   /// Number of tools whose friction memory friction_history() holds (those of configure()).
   std::size_t history_tools() const { return history_.size(); }
   /// Writes tool `tool`'s friction memory as 3 numbers per particle (0 where none) for the output

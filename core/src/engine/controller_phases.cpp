@@ -1,5 +1,9 @@
 #include "engine/controller_phases.hpp"
 
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
 #include "sphforge/errors.hpp"
 #include "sphforge/units.hpp"
 
@@ -36,7 +40,10 @@ bool ControllerPhases::Phase::ended(double time) const {
 
 void ControllerPhases::load(const ParamValues& root, const MakeController& make, SignalBus& bus) {
   const json& list = root.raw("controllers");
-  for (std::size_t k = 0; k < list.size(); ++k) run_long_.push_back(make(list[k], "/controllers/" + std::to_string(k)));
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    run_long_pointers_.push_back("/controllers/" + std::to_string(k));
+    run_long_.push_back(make(list[k], run_long_pointers_.back()));
+  }
 
   const json& phases = root.raw("phases");
   for (std::size_t p = 0; p < phases.size(); ++p) {
@@ -44,8 +51,10 @@ void ControllerPhases::load(const ParamValues& root, const MakeController& make,
     Phase phase;
     phase.name = ph.string("name");
     const json& controllers = ph.raw("controllers");
-    for (std::size_t k = 0; k < controllers.size(); ++k)
-      phase.controllers.push_back(make(controllers[k], ph.pointer() + "/controllers/" + std::to_string(k)));
+    for (std::size_t k = 0; k < controllers.size(); ++k) {
+      phase.pointers.push_back(ph.pointer() + "/controllers/" + std::to_string(k));
+      phase.controllers.push_back(make(controllers[k], phase.pointers.back()));
+    }
     if (ph.has("end") && !ph.raw("end").empty()) {
       const ParamValues end = ph.sub("end", end_specs());
       if (end.number("duration") > 0.0) phase.duration = end.number("duration");
@@ -125,6 +134,55 @@ json ControllerPhases::summary() const {
     list.push_back(p);
   }
   return list;
+}
+
+std::string ControllerPhases::first_without_restart() const {
+  for (std::size_t k = 0; k < run_long_.size(); ++k)
+    if (!run_long_[k]->supports_restart()) return run_long_pointers_[k];
+  for (const auto& ph : phases_)
+    for (std::size_t k = 0; k < ph.controllers.size(); ++k)
+      if (!ph.controllers[k]->supports_restart()) return ph.pointers[k];
+  return {};
+}
+
+namespace {
+// JSON has no NaN: a phase that has not started or ended is saved as null.
+json time_or_null(double t) { return std::isnan(t) ? json(nullptr) : json(t); }
+double time_from(const json& j) { return j.is_null() ? std::numeric_limits<double>::quiet_NaN() : j.get<double>(); }
+}  // namespace
+
+json ControllerPhases::save_state() const {
+  json run_long = json::array();
+  for (const auto& c : run_long_) run_long.push_back(c->save_state());
+  json phases = json::array();
+  for (const auto& ph : phases_) {
+    json controllers = json::array();
+    for (const auto& c : ph.controllers) controllers.push_back(c->save_state());
+    phases.push_back({{"start", time_or_null(ph.start)}, {"end", time_or_null(ph.end)}, {"controllers", controllers}});
+  }
+  return {{"current", current_}, {"finished", finished_}, {"run_long", run_long}, {"phases", phases}};
+}
+
+void ControllerPhases::restore_state(const json& state) {
+  const json& run_long = state.at("run_long");
+  const json& phases = state.at("phases");
+  if (run_long.size() != run_long_.size() || phases.size() != phases_.size())
+    throw std::runtime_error("the checkpoint holds " + std::to_string(run_long.size()) + " controllers and " +
+                             std::to_string(phases.size()) + " phases, the case " + std::to_string(run_long_.size()) +
+                             " and " + std::to_string(phases_.size()));
+  for (std::size_t k = 0; k < run_long_.size(); ++k) run_long_[k]->restore_state(run_long[k]);
+  for (std::size_t p = 0; p < phases_.size(); ++p) {
+    Phase& ph = phases_[p];
+    const json& saved = phases[p];
+    if (saved.at("controllers").size() != ph.controllers.size())
+      throw std::runtime_error("phase '" + ph.name + "' has another number of controllers in the checkpoint");
+    ph.start = time_from(saved.at("start"));
+    ph.end = time_from(saved.at("end"));
+    for (std::size_t k = 0; k < ph.controllers.size(); ++k) ph.controllers[k]->restore_state(saved.at("controllers")[k]);
+  }
+  current_ = state.at("current").get<std::size_t>();
+  finished_ = state.at("finished").get<bool>();
+  phase_number_ = phases_.empty() ? 0.0 : static_cast<double>(current_ + 1);
 }
 
 }  // namespace sphforge

@@ -37,10 +37,19 @@ class ControllerPhases {
   /// {"phases": [{"name", "start_s", "end_s"}...]} for summary.json; empty without phases.
   json summary() const;
 
+  /// Restart (docs/checkpoints.md): the JSON pointer of the first controller that cannot be
+  /// checkpointed (Controller::supports_restart), empty when every one can.
+  std::string first_without_restart() const;
+  /// The current phase, the phases' start and end times and every controller's own state.
+  json save_state() const;
+  /// Takes back what save_state() wrote for the same case (same controllers and phases).
+  void restore_state(const json& state);
+
  private:
   struct Phase {
     std::string name;
     std::vector<std::unique_ptr<Controller>> controllers;
+    std::vector<std::string> pointers;  ///< case pointers of the controllers, for messages
     double duration = std::numeric_limits<double>::infinity();  ///< s
     const double* signal = nullptr;                              ///< measured signal of the end condition
     double above = std::numeric_limits<double>::infinity();      ///< ends when signal > above
@@ -50,6 +59,7 @@ class ControllerPhases {
     bool ended(double time) const;
   };
   std::vector<std::unique_ptr<Controller>> run_long_;
+  std::vector<std::string> run_long_pointers_;  ///< case pointers, for messages
   std::vector<Phase> phases_;
   std::size_t current_ = 0;
   double phase_number_ = 0.0;  ///< history column `phase_1`: 1-based index of the current phase

@@ -47,6 +47,13 @@ class NeighbourList {
     return 2 * sizeof(std::uint32_t) + 3 * sizeof(float);
   }
   long long builds() const { return builds_; }
+  /// Restart (docs/checkpoints.md): the next needs_rebuild() is true. A checkpoint marks the lists
+  /// stale in the run that writes it, and a restarted run starts without lists, so both rebuild
+  /// at the same step from the same positions.
+  void mark_stale() { stale_ = true; }
+  /// Restart: the build count of the run that wrote the checkpoint (the reordering schedule
+  /// follows it, Simulation::kReorderEveryBuilds).
+  void continue_count(long long builds) { builds_ = builds; }
   /// A build for one evaluation outside the step (an output frame's velocity gradient): lists for
   /// x as rebuild() makes them, but it does not count as a build and leaves the lists marked stale,
   /// so that the next needs_rebuild() is true and the step rebuilds exactly where it would have

@@ -191,6 +191,9 @@ const ParamSpecs& run_specs() {
       ParamSpec::number("history_interval", "s", 0.0, "time between history rows (0: output_interval/10)", 0.0),
       ParamSpec::integer("max_steps", 0, "stop after this many steps (0: no limit)", 0),
       ParamSpec::integer("threads", 0, "OpenMP threads (0: OpenMP default)", 0, 1024),
+      ParamSpec::number("checkpoint_interval", "s", 0.0,
+                        "time between restart checkpoints checkpoint_NNNNNN.h5, plus one at the end "
+                        "(0: none; docs/checkpoints.md)", 0.0),
   };
   return specs;
 }
@@ -365,6 +368,8 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   if (settings_.history_interval_s <= 0.0) settings_.history_interval_s = settings_.output_interval_s / 10.0;
   settings_.max_steps = run.integer("max_steps");
   settings_.threads = static_cast<int>(run.integer("threads"));
+  settings_.checkpoint_interval_s = run.number("checkpoint_interval");
+  case_root_ = doc.root;
 
   const double mass_scaling = numerics.number("mass_scaling");
   settings_.mass_scaling = mass_scaling;
@@ -416,6 +421,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     auto [desc, values] = load_plugin(loader, PluginKind::Process, root, root.raw("process"), "/process");
     process_ = desc->make_process(values);
     process_name = desc->name;
+    process_name_ = desc->name;
   }
 
   // Build the scene.
@@ -532,6 +538,12 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
         return desc->make_controller(values);
       },
       signals_);
+  // A checkpoint is only worth writing if the run can continue from it with every plugin's memory.
+  if (settings_.checkpoint_interval_s > 0.0)
+    if (const std::string missing = first_without_restart(); !missing.empty())
+      throw InputError(file, "/run/checkpoint_interval",
+                       "cannot write restart checkpoints: " + missing +
+                           " keeps no restart state (supports_restart() is false); docs/checkpoints.md");
 
   // --- Pipeline: the passes this scene runs, and the fields they declare -------------------------
   const FieldInfo position{field::position, 3, "m"}, velocity{field::velocity, 3, "m/s"},
@@ -1502,34 +1514,49 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     }
     return out;
   };
-  int frame = 0;
   double last_frame_time = -1.0, last_history_time = -1.0;
   auto write_frame = [&] {
-    particle_writer.write(frame, time_, fields_, count_, frame_arrays());
-    tool_writer.write(frame, time_, tools_);
+    particle_writer.write(cursor_.frame, time_, fields_, count_, frame_arrays());
+    tool_writer.write(cursor_.frame, time_, tools_);
     last_frame_time = time_;
-    ++frame;
+    ++cursor_.frame;
   };
-  double max_kinetic_to_work = 0.0;
   auto write_history = [&] {
     const std::vector<double> row = history_row();
     history.append(row);
     last_history_time = time_;
     // Largest kinetic/work ratio once the process is under way (after the first 10 % of the run,
     // when both energies are still tiny and their ratio meaningless).
-    if (time_ >= 0.1 * settings_.end_time_s) max_kinetic_to_work = std::max(max_kinetic_to_work, row[kRatioColumn]);
+    if (time_ >= 0.1 * settings_.end_time_s)
+      cursor_.max_kinetic_to_work = std::max(cursor_.max_kinetic_to_work, row[kRatioColumn]);
   };
-  prepare_run();
-  // Measure once so that the first history row is meaningful.
-  ProcessContext ctx0 = context();
-  process_->measure(ctx0);
-  write_frame();
-  write_history();
-  double next_output = settings_.output_interval_s, next_history = settings_.history_interval_s;
+  const bool restarted = !restarted_from_.empty();
+  std::size_t history_rows_copied = 0;
+  if (restarted) {
+    // The rows the run wrote up to its checkpoint, so that this history.csv covers the whole run.
+    // The checkpoint state is exact; the frames before it stay in the checkpoint's folder.
+    last_frame_time = last_history_time = time_;
+    history_rows_copied = io::copy_history_rows(restarted_from_.parent_path() / "history.csv", history_header(),
+                                                time_, history);
+  } else {
+    prepare_run();
+    // Measure once so that the first history row is meaningful.
+    ProcessContext ctx0 = context();
+    process_->measure(ctx0);
+    write_frame();
+    write_history();
+    cursor_.next_output = settings_.output_interval_s;
+    cursor_.next_history = settings_.history_interval_s;
+    cursor_.next_checkpoint = settings_.checkpoint_interval_s;
+  }
+  double last_checkpoint_time = restarted ? time_ : -1.0;
 
   RunResult result;
   std::string status = "completed";
   const auto wall_start = std::chrono::steady_clock::now();
+  auto wall_so_far = [&] {
+    return wall_before_restart_s_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  };
   try {
     while (time_ < settings_.end_time_s * (1.0 - 1e-12)) {
       if (settings_.max_steps > 0 && step_ >= settings_.max_steps) { status = "max_steps"; break; }
@@ -1537,14 +1564,22 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
       ProcessContext ctx = context();
       if (process_->finished(ctx)) { status = "process_finished"; break; }
       step();
-      if (time_ >= next_history) {
+      if (time_ >= cursor_.next_history) {
         write_history();
-        while (next_history <= time_) next_history += settings_.history_interval_s;
+        while (cursor_.next_history <= time_) cursor_.next_history += settings_.history_interval_s;
       }
-      if (time_ >= next_output) {
+      if (time_ >= cursor_.next_output) {
         write_frame();
         history.flush();
-        while (next_output <= time_) next_output += settings_.output_interval_s;
+        while (cursor_.next_output <= time_) cursor_.next_output += settings_.output_interval_s;
+      }
+      // Last in the step, after everything that writes state (the frame's velocity gradient), with
+      // the cursor already advanced: the checkpoint holds exactly what the next step starts from.
+      if (settings_.checkpoint_interval_s > 0.0 && time_ >= cursor_.next_checkpoint) {
+        while (cursor_.next_checkpoint <= time_) cursor_.next_checkpoint += settings_.checkpoint_interval_s;
+        history.flush();
+        write_checkpoint(out_dir, wall_so_far());
+        last_checkpoint_time = time_;
       }
       progress.update(time_, step_);
     }
@@ -1569,6 +1604,9 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   if (result.exit_code == 0 && time_ > last_frame_time) write_frame();
   if (time_ > last_history_time) write_history();
   history.flush();
+  // A final checkpoint, so that a finished run can be extended (a restart with a later run.end_time).
+  if (result.exit_code == 0 && settings_.checkpoint_interval_s > 0.0 && time_ > last_checkpoint_time)
+    write_checkpoint(out_dir, wall_before_restart_s_ + wall);
 
   json summary;
   summary["case"] = settings_.case_name;
@@ -1578,11 +1616,21 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   summary["particles"] = count_;
   summary["steps"] = step_;
   summary["simulated_time_s"] = time_;
+  // Wall time and throughput of this invocation (after a restart: of the steps since the checkpoint).
   summary["wall_time_s"] = wall;
-  summary["particle_steps_per_s"] = wall > 0 ? static_cast<double>(count_) * static_cast<double>(step_) / wall : 0.0;
+  summary["particle_steps_per_s"] =
+      wall > 0 ? static_cast<double>(count_) * static_cast<double>(step_ - restart_step_) / wall : 0.0;
+  if (restarted)
+    summary["restart"] = {{"checkpoint", restarted_from_.string()},
+                          {"step", restart_step_},
+                          {"time_s", restart_time_s_},
+                          {"wall_time_before_s", wall_before_restart_s_},
+                          {"wall_time_total_s", wall_before_restart_s_ + wall},
+                          {"history_rows_copied", history_rows_copied}};
+  if (settings_.checkpoint_interval_s > 0.0) summary["checkpoints"] = cursor_.checkpoint;
   summary["threads"] = omp_get_max_threads();
   summary["backend"] = backend_description();
-  summary["frames"] = frame;
+  summary["frames"] = cursor_.frame;
   if (symmetry_.active()) {
     // Every quantity of the outputs (particles, history, tool reactions, process metrics) is the
     // simulated part's; the full body's reactions are `multiplier` times the axial ones.
@@ -1591,13 +1639,13 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
                            {"sector_angle_deg", settings_.symmetry.sector_angle_rad * 180.0 / std::numbers::pi},
                            {"mirror_planes", settings_.symmetry.mirror_planes.size()}};
   }
-  summary["kinetic_to_work_ratio_max"] = max_kinetic_to_work;
+  summary["kinetic_to_work_ratio_max"] = cursor_.max_kinetic_to_work;
   if (const json phases = controllers_.summary(); !phases.empty()) summary["phases"] = phases;
   // The contact pass's share of the wall time (culling, distances, friction laws, reactions).
   summary["contact_time_s"] = contact_time_s_;
   summary["metrics"] = process_->metrics();
   // Return mappings that hit their iteration cap (docs/theory.md eq. 34): 0 in a sound run.
-  long long failed_returns = 0;
+  long long failed_returns = failed_returns_before_restart_;
   for (const auto& material : materials_) failed_returns += material->failed_returns();
   summary["material_failed_returns"] = failed_returns;
   json versions;

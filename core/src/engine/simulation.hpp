@@ -47,6 +47,7 @@ struct CoreSettings {
   double output_interval_s = 0.0;
   double history_interval_s = 0.0;
   long long max_steps = 0;  ///< 0: no limit
+  double checkpoint_interval_s = 0.0;  ///< run.checkpoint_interval; 0: no checkpoints (docs/checkpoints.md)
   int threads = 0;          ///< 0: OpenMP default
 };
 
@@ -70,6 +71,13 @@ class Simulation {
     std::string message;
   };
   RunResult run(const std::filesystem::path& out_dir, ProgressMode progress);
+  /// Continues a run from a checkpoint (`sphforge run CASE --restart FILE`, docs/checkpoints.md):
+  /// initialises the rebuilt scene as a new run would, then takes the particle fields, the tools,
+  /// the signals, the plugins' state and the core's ledgers from `checkpoint`; run() then goes on
+  /// from there. The case must be the one that wrote the checkpoint except for its "run" section.
+  /// Throws InputError (file, what differs) for a file that is not a checkpoint of this case, and
+  /// for a process or controller plugin that keeps no restart state. Call before run().
+  void restore(const std::filesystem::path& checkpoint);
 
   const CoreSettings& settings() const { return settings_; }
   std::size_t particle_count() const { return count_; }
@@ -125,9 +133,19 @@ class Simulation {
   void prepare_run();
   double thermal_time_step() const;
   ProcessContext context();
+  /// The run's state besides the particle fields, as a checkpoint stores it (engine/checkpoint.cpp).
+  nlohmann::json checkpoint_state(double wall_time_s) const;
+  /// Writes out_dir/checkpoint_NNNNNN.h5 (the next number) and marks the neighbour lists stale,
+  /// so that this run and one restarted from the file rebuild them at the same step.
+  void write_checkpoint(const std::filesystem::path& out_dir, double wall_time_s);
+  /// The plugin (process or controller) that cannot be checkpointed, as "<what> at <pointer>";
+  /// empty when every one can.
+  std::string first_without_restart() const;
 
   CoreSettings settings_;
   std::string case_file_;
+  nlohmann::json case_root_;   ///< the case as run (after --set): a checkpoint must match it
+  std::string process_name_;
   PluginLoader& loader_;
   std::vector<std::unique_ptr<Material>> materials_;  ///< [0]: the case's "material"
   std::vector<std::string> material_keys_;           ///< "" for [0], else the key in "materials"
@@ -204,6 +222,18 @@ class Simulation {
   double time_ = 0.0, dt_ = 0.0, dt_initial_ = 0.0, dt_cfl_ = 0.0, dt_contact_ = 0.0;
   long long step_ = 0;
   std::size_t contacts_ = 0;
+  /// Where the run loop stands, besides time_ and step_: what a checkpoint saves with the fields.
+  struct RunCursor {
+    int frame = 0;       ///< number of the next particle frame
+    int checkpoint = 0;  ///< number of the next checkpoint
+    double next_output = 0.0, next_history = 0.0, next_checkpoint = 0.0;
+    double max_kinetic_to_work = 0.0;  ///< summary.json kinetic_to_work_ratio_max so far
+  } cursor_;
+  /// Restarted runs: the checkpoint, its step and time, and the wall time of the run before it.
+  std::filesystem::path restarted_from_;
+  long long restart_step_ = 0;
+  double restart_time_s_ = 0.0, wall_before_restart_s_ = 0.0;
+  long long failed_returns_before_restart_ = 0;
   std::vector<HistoryColumn> process_columns_, controller_columns_;
 };
 

@@ -1,5 +1,7 @@
 #include "io/output_writers.hpp"
 
+#include <cstdlib>
+
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -355,6 +357,32 @@ void HistoryWriter::append(const std::vector<double>& row) {
 void HistoryWriter::flush() {
   out_.flush();
   if (!out_) throw std::runtime_error("cannot write '" + path_.string() + "'");
+}
+
+std::size_t copy_history_rows(const fs::path& file, const std::vector<std::string>& columns, double up_to_time_s,
+                              HistoryWriter& out) {
+  std::ifstream in(file);
+  if (!in) return 0;
+  std::string line, expected;
+  for (std::size_t i = 0; i < columns.size(); ++i) expected += (i ? "," : "") + columns[i];
+  if (!std::getline(in, line) || line != expected) return 0;
+  std::size_t copied = 0;
+  std::vector<double> row;
+  while (std::getline(in, line)) {
+    row.clear();
+    const char* p = line.c_str();
+    char* end = nullptr;
+    while (*p) {
+      row.push_back(std::strtod(p, &end));
+      if (end == p) break;  // not a number: a torn last line of a killed run
+      p = *end == ',' ? end + 1 : end;
+    }
+    // Rows written after the checkpoint (before the run was stopped) belong to the new run.
+    if (row.size() != columns.size() || row[0] > up_to_time_s) break;
+    out.append(row);
+    ++copied;
+  }
+  return copied;
 }
 
 // ----------------------------------------------------------------------------------------------

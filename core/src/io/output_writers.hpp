@@ -75,6 +75,13 @@ class HistoryWriter {
   std::size_t columns_;
 };
 
+/// Restart (docs/checkpoints.md): appends to `out` the rows of an earlier run's history.csv
+/// `file` up to and including time `up_to_time_s`, when its header equals `columns`. Returns the
+/// number of rows copied: 0 when the file is missing or has other columns (the new file then
+/// starts at the restart).
+std::size_t copy_history_rows(const std::filesystem::path& file, const std::vector<std::string>& columns,
+                              double up_to_time_s, HistoryWriter& out);
+
 /// Writes summary.json (pretty-printed, atomically via a temporary file and rename).
 void write_summary(const std::filesystem::path& file, const nlohmann::json& summary);
 

@@ -106,6 +106,38 @@ class Pid final : public Controller {
 
   std::vector<HistoryColumn> history_columns() const override { return columns_; }
 
+  // Restart: the law's memory (integral, last sample) and the terms of the last sample, which the
+  // command is held at. The target is a signal of the bus (`<name>_target`), saved by the core.
+  bool supports_restart() const override { return true; }
+  nlohmann::json save_state() const override {
+    const control::PidLaw::Memory m = law_->memory();
+    auto terms = [](const control::PidTerms& t) {
+      return nlohmann::json::array({t.error, t.proportional, t.integral, t.derivative, t.command});
+    };
+    return {{"law_terms", terms(m.terms)},       {"sampled", m.sampled},
+            {"integral", m.integral},            {"last_error", m.last_error},
+            {"last_measured", m.last_measured},  {"last_time", m.last_time},
+            {"next_sample", m.next_sample},      {"saturation_excess", m.saturation_excess},
+            {"held_terms", terms(terms_)}};
+  }
+  void restore_state(const nlohmann::json& s) override {
+    auto terms = [](const nlohmann::json& a) {
+      return control::PidTerms{a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>(),
+                               a.at(3).get<double>(), a.at(4).get<double>()};
+    };
+    control::PidLaw::Memory m;
+    m.terms = terms(s.at("law_terms"));
+    m.sampled = s.at("sampled").get<bool>();
+    m.integral = s.at("integral").get<double>();
+    m.last_error = s.at("last_error").get<double>();
+    m.last_measured = s.at("last_measured").get<double>();
+    m.last_time = s.at("last_time").get<double>();
+    m.next_sample = s.at("next_sample").get<double>();
+    m.saturation_excess = s.at("saturation_excess").get<double>();
+    law_->restore(m);
+    terms_ = terms(s.at("held_terms"));
+  }
+
  private:
   ParamValues params_;
   std::string name_;

@@ -108,6 +108,28 @@ class PidLaw {
   const PidTerms& terms() const { return terms_; }
   double integral() const { return integral_; }  ///< I, in measured units times s
 
+  /// Everything update() remembers between calls: what a restart must give back
+  /// (the `pid` plugin's save_state()).
+  struct Memory {
+    PidTerms terms;
+    bool sampled = false;
+    double integral = 0.0, last_error = 0.0, last_measured = 0.0, last_time = 0.0;
+    double next_sample = 0.0, saturation_excess = 0.0;
+  };
+  Memory memory() const {
+    return {terms_, sampled_, integral_, last_error_, last_measured_, last_time_, next_sample_, saturation_excess_};
+  }
+  void restore(const Memory& m) {
+    terms_ = m.terms;
+    sampled_ = m.sampled;
+    integral_ = m.integral;
+    last_error_ = m.last_error;
+    last_measured_ = m.last_measured;
+    last_time_ = m.last_time;
+    next_sample_ = m.next_sample;
+    saturation_excess_ = m.saturation_excess;
+  }
+
  private:
   PidSettings s_;
   PidTerms terms_;

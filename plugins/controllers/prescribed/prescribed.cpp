@@ -20,6 +20,8 @@ class Prescribed final : public Controller {
   }
 
   void update(double, double) override { *target_ = value_; }
+  /// Restart: a function of time only, nothing to save.
+  bool supports_restart() const override { return true; }
 
  private:
   ParamValues params_;

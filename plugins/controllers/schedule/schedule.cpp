@@ -25,6 +25,8 @@ class Schedule final : public Controller {
   }
 
   void update(double time_s, double) override { *target_ = function_(time_s); }
+  /// Restart: a function of time only, nothing to save.
+  bool supports_restart() const override { return true; }
 
  private:
   ParamValues params_;

@@ -269,6 +269,30 @@ class FrictionDrilling final : public Process {
 
   bool finished(const ProcessContext&) const override { return depth_ >= stroke_; }
 
+  // Restart (docs/checkpoints.md): the maxima and the bushing, which is measured only every
+  // bushing_interval. The thermocouple particle is found again by id; the signals are on the bus.
+  bool supports_restart() const override { return true; }
+  nlohmann::json save_state() const override {
+    return {{"next_bushing", next_bushing_},
+            {"bushing", {upper_, lower_, total_, detached_}},
+            {"max_force", {max_force_, max_force_time_, max_force_depth_}},
+            {"max_torque", max_torque_},
+            {"max_probe", {max_probe_, max_probe_time_}},
+            {"max_temperature", max_temperature_}};
+  }
+  void restore_state(const nlohmann::json& s) override {
+    auto at = [](const nlohmann::json& a, std::size_t k) { return a.at(k).get<double>(); };
+    next_bushing_ = s.at("next_bushing").get<double>();
+    const nlohmann::json& b = s.at("bushing");
+    upper_ = at(b, 0), lower_ = at(b, 1), total_ = at(b, 2), detached_ = at(b, 3);
+    const nlohmann::json& f = s.at("max_force");
+    max_force_ = at(f, 0), max_force_time_ = at(f, 1), max_force_depth_ = at(f, 2);
+    max_torque_ = s.at("max_torque").get<double>();
+    const nlohmann::json& q = s.at("max_probe");
+    max_probe_ = at(q, 0), max_probe_time_ = at(q, 1);
+    max_temperature_ = s.at("max_temperature").get<double>();
+  }
+
   std::vector<HistoryColumn> history_columns() const override {
     return {{"process_time_s", &process_time_},
             {"drill_tip_z_m", &tip_z_},

@@ -339,6 +339,22 @@ class FrictionExtrusion final : public Process {
 
   bool finished(const ProcessContext&) const override { return displacement_ >= stroke_; }
 
+  // Restart (docs/checkpoints.md): the Table D.1 samples and the running peak. Tracers and
+  // thermocouples are found again by id (initialize() on the rebuilt scene, refresh()); the
+  // signals (force, displacement, commands) are on the bus, which the core saves.
+  bool supports_restart() const override { return true; }
+  nlohmann::json save_state() const override {
+    json samples = json::array();
+    for (const Sample& x : samples_) samples.push_back({x.t, x.force, x.velocity});
+    return {{"samples", samples}, {"next_sample", next_sample_}, {"peak_interface_temperature", peak_interface_T_}};
+  }
+  void restore_state(const nlohmann::json& s) override {
+    samples_.clear();
+    for (const json& x : s.at("samples")) samples_.push_back({x.at(0).get<double>(), x.at(1).get<double>(), x.at(2).get<double>()});
+    next_sample_ = s.at("next_sample").get<double>();
+    peak_interface_T_ = s.at("peak_interface_temperature").get<double>();
+  }
+
   std::vector<HistoryColumn> history_columns() const override {
     std::vector<HistoryColumn> c = {
         {"process_time_s", &process_time_},

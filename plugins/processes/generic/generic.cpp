@@ -585,6 +585,29 @@ class Generic final : public Process {
     }
   }
 
+  // Restart (docs/checkpoints.md): the probes' recorded samples (min, max, period) and the bodies'
+  // extents at the first measurement. Regions and probes are found again by id (initialize() on
+  // the rebuilt scene, refresh()); probe values and tool signals are on the bus.
+  bool supports_restart() const override { return true; }
+  nlohmann::json save_state() const override {
+    json probes = json::array();
+    for (const Probe& p : probes_) probes.push_back({{"times", p.times}, {"values", p.values}});
+    json extents = json::array();
+    for (const Extent& e : extent_initial_) extents.push_back({e.seen, e.length, e.radius, e.base_radius});
+    return {{"probes", probes}, {"extent_initial", extents}};
+  }
+  void restore_state(const nlohmann::json& s) override {
+    const json& probes = s.at("probes");
+    if (probes.size() != probes_.size()) throw std::runtime_error("generic: another number of probes");
+    for (std::size_t k = 0; k < probes_.size(); ++k) {
+      probes_[k].times = probes[k].at("times").get<std::vector<double>>();
+      probes_[k].values = probes[k].at("values").get<std::vector<double>>();
+    }
+    extent_initial_.clear();
+    for (const json& e : s.at("extent_initial"))
+      extent_initial_.push_back({e.at(0).get<bool>(), e.at(1).get<double>(), e.at(2).get<double>(), e.at(3).get<double>()});
+  }
+
   std::vector<HistoryColumn> history_columns() const override {
     std::vector<HistoryColumn> c;
     for (const Probe& p : probes_) c.push_back({p.name + "_" + p.quantity + "_" + unit_of(p.quantity), &p.value});

@@ -196,6 +196,32 @@ class RamExtrusion final : public Process {
             {"ram_work_J", &ram_work_},                 {"kinetic_to_ram_internal_ratio_1", &energy_ratio_}};
   }
 
+  // Restart (docs/checkpoints.md): what measure() accumulates over the steps. The instantaneous
+  // signals (ram force, displacement, pressure) are on the bus, which the core saves.
+  bool supports_restart() const override { return true; }
+  nlohmann::json save_state() const override {
+    auto window = [](const WindowStats& w) { return nlohmann::json::array({w.sum, w.sum2, w.time}); };
+    return {{"window", window(window_)},
+            {"section_window", window(section_window_)},
+            {"peak_pressure", peak_pressure_},
+            {"peak_force", peak_force_},
+            {"peak_force_displacement", peak_force_displacement_},
+            {"ram_work", ram_work_},
+            {"energy_ratio_window_max", energy_ratio_window_max_}};
+  }
+  void restore_state(const nlohmann::json& s) override {
+    auto window = [](const nlohmann::json& a) {
+      return WindowStats{a.at(0).get<double>(), a.at(1).get<double>(), a.at(2).get<double>()};
+    };
+    window_ = window(s.at("window"));
+    section_window_ = window(s.at("section_window"));
+    peak_pressure_ = s.at("peak_pressure").get<double>();
+    peak_force_ = s.at("peak_force").get<double>();
+    peak_force_displacement_ = s.at("peak_force_displacement").get<double>();
+    ram_work_ = s.at("ram_work").get<double>();
+    energy_ratio_window_max_ = s.at("energy_ratio_window_max").get<double>();
+  }
+
   nlohmann::json metrics() const override {
     nlohmann::json m;
     m["peak_extrusion_pressure_Pa"] = peak_pressure_;
