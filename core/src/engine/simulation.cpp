@@ -1533,11 +1533,13 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   const bool restarted = !restarted_from_.empty();
   std::size_t history_rows_copied = 0;
   if (restarted) {
-    // The rows the run wrote up to its checkpoint, so that this history.csv covers the whole run.
-    // The checkpoint state is exact; the frames before it stay in the checkpoint's folder.
+    // The rows the run wrote up to its checkpoint, so that this history.csv covers the whole run,
+    // and its frames (left in their folder, listed by relative path) so that the .pvd files do.
     last_frame_time = last_history_time = time_;
-    history_rows_copied = io::copy_history_rows(restarted_from_.parent_path() / "history.csv", history_header(),
-                                                time_, history);
+    const fs::path earlier = restarted_from_.parent_path();
+    history_rows_copied = io::copy_history_rows(earlier / "history.csv", history_header(), time_, history);
+    particle_writer.continue_series(earlier / "particles.pvd", time_);
+    tool_writer.continue_series(earlier / "tools.pvd", time_);
   } else {
     prepare_run();
     // Measure once so that the first history row is meaningful.

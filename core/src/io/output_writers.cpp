@@ -21,6 +21,8 @@
 #include <vtkPolyData.h>
 #include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkXMLDataElement.h>
+#include <vtkXMLDataParser.h>
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
@@ -249,6 +251,28 @@ void ParticleSeriesWriter::write(int frame, double time_s, const FieldRegistry& 
   write_pvd(directory_ / "particles.pvd", datasets);
 }
 
+namespace {
+/// The earlier run's datasets up to `up_to_time_s`, their files relative to `directory`.
+std::vector<std::tuple<double, int, std::string>> earlier_datasets(const fs::path& earlier_pvd, double up_to_time_s,
+                                                                   const fs::path& directory) {
+  std::vector<std::tuple<double, int, std::string>> out;
+  const fs::path from = fs::weakly_canonical(earlier_pvd.parent_path());
+  const fs::path to = fs::weakly_canonical(directory);
+  for (auto& [time, part, file] : read_pvd(earlier_pvd))
+    if (time <= up_to_time_s) out.emplace_back(time, part, (from / file).lexically_relative(to).generic_string());
+  return out;
+}
+}  // namespace
+
+std::size_t ParticleSeriesWriter::continue_series(const fs::path& earlier_pvd, double up_to_time_s) {
+  std::size_t added = 0;
+  for (const auto& [time, part, file] : earlier_datasets(earlier_pvd, up_to_time_s, directory_)) {
+    frames_.emplace_back(time, file);
+    ++added;
+  }
+  return added;
+}
+
 // ----------------------------------------------------------------------------------------------
 
 ToolSeriesWriter::ToolSeriesWriter(fs::path directory, int segments)
@@ -383,6 +407,36 @@ std::size_t copy_history_rows(const fs::path& file, const std::vector<std::strin
     ++copied;
   }
   return copied;
+}
+
+std::size_t ToolSeriesWriter::continue_series(const fs::path& earlier_pvd, double up_to_time_s) {
+  std::size_t added = 0;
+  for (const auto& [time, part, file] : earlier_datasets(earlier_pvd, up_to_time_s, directory_)) {
+    entries_.push_back(Entry{time, part, file});
+    ++added;
+  }
+  return added;
+}
+
+std::vector<std::tuple<double, int, std::string>> read_pvd(const fs::path& file) {
+  std::vector<std::tuple<double, int, std::string>> out;
+  if (!fs::is_regular_file(file)) return out;
+  vtkNew<vtkXMLDataParser> parser;
+  parser->SetFileName(file.string().c_str());
+  if (parser->Parse() != 1) return out;
+  vtkXMLDataElement* root = parser->GetRootElement();
+  if (!root || std::string(root->GetName()) != "VTKFile" || root->GetNumberOfNestedElements() < 1) return out;
+  vtkXMLDataElement* collection = root->GetNestedElement(0);
+  for (int k = 0; k < collection->GetNumberOfNestedElements(); ++k) {
+    vtkXMLDataElement* e = collection->GetNestedElement(k);
+    const char* time = e->GetAttribute("timestep");
+    const char* name = e->GetAttribute("file");
+    if (!time || !name) continue;
+    int part = 0;
+    e->GetScalarAttribute("part", part);
+    out.emplace_back(std::strtod(time, nullptr), part, name);
+  }
+  return out;
 }
 
 // ----------------------------------------------------------------------------------------------

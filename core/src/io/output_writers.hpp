@@ -35,6 +35,10 @@ class ParticleSeriesWriter {
   /// `extra`: arrays held outside the registry, written after the fields (`count` particles each).
   void write(int frame, double time_s, const FieldRegistry& fields, std::size_t count,
              const std::vector<ParticleArray>& extra = {});
+  /// Restart (docs/checkpoints.md): the frames of an earlier run's `particles.pvd` up to
+  /// `up_to_time_s` open this series (by their path relative to this folder), so that the new
+  /// particles.pvd shows the whole run. Returns how many; 0 when the file cannot be read.
+  std::size_t continue_series(const std::filesystem::path& earlier_pvd, double up_to_time_s);
 
  private:
   std::filesystem::path directory_;
@@ -52,6 +56,8 @@ class ToolSeriesWriter {
   /// Creates `directory` if needed; `segments` must be >= 3 (std::invalid_argument otherwise).
   explicit ToolSeriesWriter(std::filesystem::path directory, int segments = 48);
   void write(int frame, double time_s, const std::vector<RigidTool>& tools);
+  /// Restart: as ParticleSeriesWriter::continue_series, for `tools.pvd`.
+  std::size_t continue_series(const std::filesystem::path& earlier_pvd, double up_to_time_s);
 
  private:
   std::filesystem::path directory_;
@@ -84,6 +90,10 @@ std::size_t copy_history_rows(const std::filesystem::path& file, const std::vect
 
 /// Writes summary.json (pretty-printed, atomically via a temporary file and rename).
 void write_summary(const std::filesystem::path& file, const nlohmann::json& summary);
+
+/// The datasets (time, part, file as written) of a .pvd collection, read with VTK's XML parser;
+/// empty when the file is missing or not a collection.
+std::vector<std::tuple<double, int, std::string>> read_pvd(const std::filesystem::path& file);
 
 /// Writes the small XML collection file of a .pvd series. VTK has no writer for the plain
 /// time-series collection format that ParaView reads, so this one file is written by hand.
