@@ -493,13 +493,18 @@ TEST_F(Cli, RestartFromACheckpointRepeatsTheUninterruptedRunExactly) {
   EXPECT_TRUE(fs::is_regular_file(b / "checkpoint_000001.h5"));
   EXPECT_TRUE(fs::is_regular_file(b / "checkpoint_000002.h5"));
 
-  // A finished run goes on from its last checkpoint with a later end time.
+  // A finished run goes on from its last checkpoint with a later end time, and a changed checkpoint
+  // interval starts its grid at the checkpoint (0.064 and 0.068 s, then the final one at 0.07 s;
+  // on the old grid the next would have been 0.075 s).
   r = run(concat({"run", kQuickCase, "--out", c.string(), "--restart", (a / "checkpoint_000002.h5").string()},
-                 concat(scene, {"--set", "run.end_time=0.07 s"})));
+                 concat(scene, {"--set", "run.end_time=0.07 s", "--set", "run.checkpoint_interval=0.004 s"})));
   ASSERT_EQ(r.code, 0) << describe(r);
   const json sc = json::parse(slurp(c / "summary.json"));
   EXPECT_GT(sc.at("steps").get<long long>(), sa.at("steps").get<long long>());
   EXPECT_NEAR(sc.at("simulated_time_s").get<double>(), 0.07, 1e-4);
+  EXPECT_EQ(sc.at("checkpoints"), 6);
+  for (const char* f : {"checkpoint_000003.h5", "checkpoint_000004.h5", "checkpoint_000005.h5"})
+    EXPECT_TRUE(fs::is_regular_file(c / f)) << f;
 }
 
 TEST_F(Cli, RestartRepeatsTheRunForEveryProcessPlugin) {

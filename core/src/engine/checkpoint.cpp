@@ -115,6 +115,9 @@ json Simulation::checkpoint_state(double wall_time_s) const {
                  {"next_output_s", cursor_.next_output},
                  {"next_history_s", cursor_.next_history},
                  {"next_checkpoint_s", cursor_.next_checkpoint},
+                 {"output_interval_s", settings_.output_interval_s},
+                 {"history_interval_s", settings_.history_interval_s},
+                 {"checkpoint_interval_s", settings_.checkpoint_interval_s},
                  {"max_kinetic_to_work", cursor_.max_kinetic_to_work}};
 
   return {{"core_version", kCoreVersion},
@@ -230,13 +233,18 @@ void Simulation::restore(const fs::path& checkpoint) {
     const json& cursor = state.at("cursor");
     cursor_.frame = cursor.at("frame").get<int>();
     cursor_.checkpoint = cursor.at("checkpoint").get<int>();
-    cursor_.next_output = cursor.at("next_output_s").get<double>();
-    cursor_.next_history = cursor.at("next_history_s").get<double>();
-    cursor_.next_checkpoint = cursor.at("next_checkpoint_s").get<double>();
+    // The same interval goes on on the run's grid; a restart that changes an interval starts its
+    // grid at the checkpoint's time. (The first checkpoints of 2026-12-02 did not store the
+    // intervals: theirs go on on the saved grid.)
+    auto next = [&](const char* key, const char* interval_key, double interval) {
+      const double saved = cursor.at(key).get<double>();
+      return !cursor.contains(interval_key) || cursor.at(interval_key).get<double>() == interval ? saved
+                                                                                                  : time_ + interval;
+    };
+    cursor_.next_output = next("next_output_s", "output_interval_s", settings_.output_interval_s);
+    cursor_.next_history = next("next_history_s", "history_interval_s", settings_.history_interval_s);
+    cursor_.next_checkpoint = next("next_checkpoint_s", "checkpoint_interval_s", settings_.checkpoint_interval_s);
     cursor_.max_kinetic_to_work = cursor.at("max_kinetic_to_work").get<double>();
-    // A restart with a new interval checkpoints on the new grid from here.
-    if (settings_.checkpoint_interval_s > 0.0 && !(cursor_.next_checkpoint > time_))
-      cursor_.next_checkpoint = time_ + settings_.checkpoint_interval_s;
 
     process_->restore_state(state.at("process"));
     controllers_.restore_state(state.at("controllers"));
