@@ -258,8 +258,10 @@ std::vector<std::tuple<double, int, std::string>> earlier_datasets(const fs::pat
   std::vector<std::tuple<double, int, std::string>> out;
   const fs::path from = fs::weakly_canonical(earlier_pvd.parent_path());
   const fs::path to = fs::weakly_canonical(directory);
+  // Normalised first: after a chain of restarts the earlier .pvd already lists "../a/..." paths.
   for (auto& [time, part, file] : read_pvd(earlier_pvd))
-    if (time <= up_to_time_s) out.emplace_back(time, part, (from / file).lexically_relative(to).generic_string());
+    if (time <= up_to_time_s)
+      out.emplace_back(time, part, (from / file).lexically_normal().lexically_relative(to).generic_string());
   return out;
 }
 }  // namespace
