@@ -416,11 +416,9 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       material_names.push_back(desc->name);
     }
   }
-  std::string process_name;
   {
     auto [desc, values] = load_plugin(loader, PluginKind::Process, root, root.raw("process"), "/process");
     process_ = desc->make_process(values);
-    process_name = desc->name;
     process_name_ = desc->name;
   }
 
@@ -619,7 +617,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   if (any_attached_)
     passes_.push_back({"attached_bodies", {}, {position, FieldInfo{kToolReferencePosition, 3, "m"}}});
   std::vector<FieldInfo> process_fields = process_->fields();
-  if (!process_fields.empty()) passes_.push_back({"process:" + process_name, {}, process_fields});
+  if (!process_fields.empty()) passes_.push_back({"process:" + process_name_, {}, process_fields});
   for (const PassInfo& pass : passes_) {
     for (const FieldInfo& f : pass.reads) fields_.declare(f, pass.name, Access::Read);
     for (const FieldInfo& f : pass.writes) fields_.declare(f, pass.name, Access::Write);
