@@ -523,6 +523,17 @@ TEST_F(Cli, RestartRepeatsTheRunForEveryProcessPlugin) {
        {"run.end_time=1e-4 s", "run.history_interval=2e-6 s", "run.checkpoint_interval=4e-5 s"}},
       {src + "/cases/verification/tool_heat_rotating_die.json",
        {"run.end_time=2 ms", "run.history_interval=0.02 ms", "run.checkpoint_interval=0.7 ms"}},
+      // The same scene with a Johnson-Cook disc whose conductivity grows with temperature and makes
+      // conduction limit the time step (dt_thermal 0.338 us against dt_cfl 1.5 us): the first step
+      // after the restart is sized by the properties of the last thermal pass (eq. 26), which only
+      // the checkpoint holds (a rebuilt scene evaluates them at the initial temperature). Dropping
+      // their restore makes history.csv differ (checked by mutation).
+      {src + "/cases/verification/tool_heat_rotating_die.json",
+       {R"j(material={"plugin":"johnson_cook","density":"1000 kg/m^3","youngs_modulus":"200 MPa",)j"
+        R"j("poisson_ratio":0.3,"A":"1 MPa","B":"0 MPa","n":1,"C":0,"m":1,"reference_temperature":"300 K",)j"
+        R"j("melting_temperature":"1300 K","conductivity":"1e6 W/(m*K)","conductivity_slope":"1e6 W/(m*K)",)j"
+        R"j("specific_heat":"500 J/(kg*K)"})j",
+        "run.end_time=0.3 ms", "run.history_interval=0.01 ms", "run.checkpoint_interval=0.1 ms"}},
   };
   int k = 0;
   for (const Scene& scene : scenes) {
