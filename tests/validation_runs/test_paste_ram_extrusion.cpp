@@ -33,24 +33,33 @@ double steady_pressure(const RunResult& r, const char* metric = "steady_extrusio
   return m.is_number() ? m.get<double>() : std::nan("");
 }
 
-// 1. Smooth walls, square-entry orifice: P_ex (= the die-entry pressure P_1 with a frictionless
-//    barrel) within 5 % of Horrobin-Nedderman (eq. 76) and above the ideal work 2 sigma_y ln(D0/D).
+// 1. Smooth walls, square-entry orifice: the die-entry pressure P_1 within 5 % of Horrobin-Nedderman
+//    (eq. 76) and above the ideal work 2 sigma_y ln(D0/D). P_1 is measured as the paper defines P_ex:
+//    the axial stress averaged over the barrel section 1.5 R0 above the die face (eq. 73,
+//    `steady_section_pressure_Pa`); with a frictionless barrel the ram pressure would be the same, and it
+//    is recorded beside it. Run on the paper's 40 mm billet, so that the section lies 21 mm below the
+//    ram face and not inside its kernel support (with the bundled 22.5 mm billet the section is biased
+//    low by about 4 %), at dx = 0.5 mm (six particles across the orifice): at 0.75 mm the section is
+//    +5.0 % and the ram +7.1 %, both falling with refinement (docs/validation/ram_extrusion.md 1a).
 //    The case's 1.5 mm stroke and window 1.0-1.5 mm: at its 1e6 kg/m^3 a 0.5-0.8 mm window is still in
-//    the start-up transient (docs/validation/ram_extrusion.md 1a).
+//    the start-up transient. About 152,000 steps of 39,200 particles: some 3.5 h on one thread.
 TEST(PasteRamExtrusionValidation, SmoothOrificeHorrobinNedderman) {
   const RunResult r = run_case(kDir + "paste_orifice.json", "paste_orifice_smooth",
-                               {R"(contact.tool_laws.barrel={"plugin":"coulomb","friction_coefficient":0.0})"});
+                               {R"(contact.tool_laws.barrel={"plugin":"coulomb","friction_coefficient":0.0})",
+                                "process.billet_height=40 mm", "process.particle_spacing=0.5 mm"});
   const double p_ex = steady_pressure(r);
   const double p_section = steady_pressure(r, "steady_section_pressure_Pa");
   const double p1 = kSigmaY * (1.92 * std::log(kD0 / kD) + 1.08);
   const double ideal = 2.0 * kSigmaY * std::log(kD0 / kD);
   char text[300];
   std::snprintf(text, sizeof text,
-                "paste orifice, smooth walls: P_ex %.4g Pa, section P %.4g Pa, P_1 (H-N) %.4g Pa: %+.2f %%; ideal %.4g Pa\n",
-                p_ex, p_section, p1, 100.0 * (p_ex / p1 - 1.0), ideal);
+                "paste orifice, smooth walls, 40 mm billet, dx 0.5 mm: section P %.4g Pa, P_1 (H-N) %.4g Pa: "
+                "%+.2f %%; ram P_ex %.4g Pa: %+.2f %%; ideal %.4g Pa\n",
+                p_section, p1, 100.0 * (p_section / p1 - 1.0), p_ex, 100.0 * (p_ex / p1 - 1.0), ideal);
   record("validation_results.txt", text);
-  EXPECT_NEAR(p_ex, p1, 0.05 * p1) << text;  // the issue's 5 % target
-  EXPECT_GT(p_ex, ideal) << text;             // a lower bound: no tolerance
+  EXPECT_NEAR(p_section, p1, 0.05 * p1) << text;  // the issue's 5 % target
+  EXPECT_GT(p_section, ideal) << text;            // a lower bound: no tolerance
+  EXPECT_GT(p_ex, ideal) << text;
 }
 
 // 2. Navier-slip lands: the slope of P_ex against L/D (least squares through L/D = 0, 10/3, 28/3)
