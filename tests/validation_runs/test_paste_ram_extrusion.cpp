@@ -40,9 +40,10 @@ double steady_pressure(const RunResult& r, const char* metric = "steady_extrusio
 //    is recorded beside it. Run on the paper's 40 mm billet, so that the section lies 21 mm below the
 //    ram face and not inside its kernel support (with the bundled 22.5 mm billet the section is biased
 //    low by about 4 %), at dx = 0.5 mm (six particles across the orifice): at 0.75 mm the section is
-//    +5.0 % and the ram +7.1 %, both falling with refinement (docs/validation/ram_extrusion.md 1a).
+//    +5.0 % and the ram +7.1 %; the same run at 0.5 mm (via a restart, 2026-12-04) gave +3.06 % and
+//    +3.7 % (docs/validation/ram_extrusion.md 1a).
 //    The case's 1.5 mm stroke and window 1.0-1.5 mm: at its 1e6 kg/m^3 a 0.5-0.8 mm window is still in
-//    the start-up transient. About 152,000 steps of 39,200 particles: some 3.5 h on one thread.
+//    the start-up transient. 142,750 steps of 39,200 particles: about 3 h on one thread.
 TEST(PasteRamExtrusionValidation, SmoothOrificeHorrobinNedderman) {
   const RunResult r = run_case(kDir + "paste_orifice.json", "paste_orifice_smooth",
                                {R"(contact.tool_laws.barrel={"plugin":"coulomb","friction_coefficient":0.0})",
