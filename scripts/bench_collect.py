@@ -11,10 +11,13 @@ errors against the bench's reference). This script takes one metric and writes, 
 and prints a Markdown table (one row per case, one column group per spacing) on stdout.
 
 usage: scripts/bench_collect.py --metric peak_force_N [--scale 1e-3 --unit kN]
-           [--run LABEL=SPACING_M:RUN_DIR ...] OUT LABEL=BENCH_DIR ...
+           [--rows EARLIER.csv] [--run LABEL=SPACING_M:RUN_DIR ...] OUT [LABEL=BENCH_DIR ...]
 --run adds a spacing that was not part of the bench but is the same case run by `sphforge run` (its
 summary.json; the spacing is given because summary.json does not hold it), with the bench's reference:
-a finer spacing that costs too much to run twice.
+a finer spacing that costs too much to run twice. A run continued with --restart counts the wall time of
+all its parts (summary.json restart.wall_time_total_s).
+--rows takes the rows of an earlier OUT.csv as they are (the same metric), for benches whose folders were
+not kept; a bench folder or --run given as well adds to them.
 (needs matplotlib for the plot)
 """
 import argparse
@@ -53,9 +56,28 @@ def row_of_run(label, spacing_m, run_dir, bench_rows, metric):
     # A bench without a reference file measures against its own finest spacing, which a finer added run
     # would not share: no error for that row.
     ref_value = float(ref_text) if ref_text != "finest spacing" else None
+    # A restarted run's wall_time_s is its last part's; the whole run is what a spacing costs.
+    wall_s = summary.get("restart", {}).get("wall_time_total_s", summary.get("wall_time_s"))
     return make_row(metric, label, spacing_m, summary.get("particles"), summary.get("steps"),
-                    summary.get("wall_time_s"), summary.get("status"), summary.get("metrics", {}).get(metric),
+                    wall_s, summary.get("status"), summary.get("metrics", {}).get(metric),
                     ref_value, ref_text, "sphforge run")
+
+
+def rows_of_csv(path, metric):
+    """The rows of an earlier OUT.csv, numbers as numbers (empty cells as None)."""
+    numeric = ["spacing_m", "particles_1", "steps_1", "wall_s", metric, f"{metric}_error_1"]
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if rows and metric not in rows[0]:
+        raise SystemExit(f"--rows {path}: it has no column '{metric}'")
+    def number(text):
+        if text in ("", None):
+            return None
+        return int(text) if text.lstrip("-").isdigit() else float(text)
+    for r in rows:
+        for k in numeric:
+            r[k] = number(r[k])
+    return rows
 
 
 def fmt(x, digits=3):
@@ -71,11 +93,14 @@ def main():
     p.add_argument("--unit", default="", help="unit of the scaled metric, written after each value in the table")
     p.add_argument("--run", action="append", default=[], metavar="LABEL=SPACING_M:RUN_DIR",
                    help="add a `sphforge run` folder of the same case as one more spacing of bench LABEL")
+    p.add_argument("--rows", metavar="EARLIER_CSV", help="start from the rows of an earlier OUT.csv")
     p.add_argument("out")
-    p.add_argument("benches", nargs="+", metavar="LABEL=BENCH_DIR")
+    p.add_argument("benches", nargs="*", metavar="LABEL=BENCH_DIR")
     a = p.parse_args()
+    if not a.benches and not a.rows:
+        p.error("give bench folders, --rows, or both")
 
-    all_rows = []
+    all_rows = rows_of_csv(a.rows, a.metric) if a.rows else []
     for item in a.benches:
         label, _, folder = item.partition("=")
         all_rows += rows_of(label, load(folder), a.metric)

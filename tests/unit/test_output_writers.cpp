@@ -386,6 +386,29 @@ TEST_F(OutputWriters, HistoryCsvFullPrecision) {
   expect_runtime_error_naming([&] { io::HistoryWriter h(bad, {"t"}); }, bad.string());
 }
 
+// A restart copies the earlier history's rows up to the checkpoint's time; the earlier file may have
+// been rewritten by another tool with CR LF line ends (Python's csv module writes them).
+TEST_F(OutputWriters, HistoryRowsCopiedUpToATimeFromLfAndCrLfFiles) {
+  const std::vector<std::string> columns{"time_s", "force_N"};
+  for (const std::string eol : {"\n", "\r\n"}) {
+    const fs::path earlier = dir_ / "earlier.csv";
+    {
+      std::ofstream out(earlier, std::ios::binary);
+      out << "time_s,force_N" << eol << "0,1" << eol << "0.5,2" << eol << "1,3" << eol << "1.5,4" << eol;
+    }
+    const fs::path file = dir_ / "history.csv";
+    {
+      io::HistoryWriter history(file, columns);
+      EXPECT_EQ(io::copy_history_rows(earlier, columns, 1.0, history), 3u);
+      history.flush();
+    }
+    EXPECT_EQ(slurp(file), "time_s,force_N\n0,1\n0.5,2\n1,3\n");
+    // Other columns: nothing copied.
+    io::HistoryWriter other(dir_ / "other.csv", {"time_s", "torque_Nm"});
+    EXPECT_EQ(io::copy_history_rows(earlier, {"time_s", "torque_Nm"}, 1.0, other), 0u);
+  }
+}
+
 TEST_F(OutputWriters, SummaryJsonRoundTrip) {
   const fs::path file = dir_ / "summary.json";
   const nlohmann::json summary = {{"status", "completed"},

@@ -254,6 +254,13 @@ class Progress {
     mode_ = mode;
     start_ = last_ = std::chrono::steady_clock::now();
   }
+  /// Where this invocation starts (a restart starts at its checkpoint): the rate and the ETA count
+  /// only the steps and the simulated time done since then, the percentage the whole run.
+  void start_at(double time, long long steps) {
+    start_time_ = time;
+    start_steps_ = steps;
+    start_ = last_ = std::chrono::steady_clock::now();
+  }
   void update(double time, long long steps, bool force = false) {
     if (mode_ == ProgressMode::Quiet) return;
     const auto now = std::chrono::steady_clock::now();
@@ -263,8 +270,9 @@ class Progress {
     last_ = now;
     const double wall = std::chrono::duration<double>(now - start_).count();
     const double frac = std::clamp(time / end_time_, 0.0, 1.0);
-    const double steps_per_s = wall > 0 ? steps / wall : 0.0;
-    const double eta = frac > 0 ? wall * (1.0 - frac) / frac : 0.0;
+    const double steps_per_s = wall > 0 ? (steps - start_steps_) / wall : 0.0;
+    const double done = time - start_time_, left = end_time_ - time;
+    const double eta = done > 0 && left > 0 ? wall * left / done : 0.0;
     char line[200];
     if (mode_ == ProgressMode::Bar) {
       const int width = 30, filled = static_cast<int>(frac * width);
@@ -286,6 +294,8 @@ class Progress {
  private:
   ProgressMode mode_;
   double end_time_;
+  double start_time_ = 0.0;
+  long long start_steps_ = 0;
   std::chrono::steady_clock::time_point start_, last_;
 };
 
@@ -1538,6 +1548,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     history_rows_copied = io::copy_history_rows(earlier / "history.csv", history_header(), time_, history);
     particle_writer.continue_series(earlier / "particles.pvd", time_);
     tool_writer.continue_series(earlier / "tools.pvd", time_);
+    progress.start_at(time_, step_);
   } else {
     prepare_run();
     // Measure once so that the first history row is meaningful.

@@ -391,10 +391,16 @@ std::size_t copy_history_rows(const fs::path& file, const std::vector<std::strin
   if (!in) return 0;
   std::string line, expected;
   for (std::size_t i = 0; i < columns.size(); ++i) expected += (i ? "," : "") + columns[i];
-  if (!std::getline(in, line) || line != expected) return 0;
+  // A file saved by another tool may end its lines with CR LF (Python's csv module, spreadsheets).
+  auto next_line = [&] {
+    if (!std::getline(in, line)) return false;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  if (!next_line() || line != expected) return 0;
   std::size_t copied = 0;
   std::vector<double> row;
-  while (std::getline(in, line)) {
+  while (next_line()) {
     row.clear();
     const char* p = line.c_str();
     char* end = nullptr;
