@@ -1529,10 +1529,17 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     last_frame_time = time_;
     ++cursor_.frame;
   };
+  // history.csv reaches the disk at every frame and checkpoint, and with the first row after each 10 s
+  // of wall time, so that a long run can be followed while it runs.
+  auto last_history_flush = std::chrono::steady_clock::now();
   auto write_history = [&] {
     const std::vector<double> row = history_row();
     history.append(row);
     last_history_time = time_;
+    if (const auto now = std::chrono::steady_clock::now(); now - last_history_flush > std::chrono::seconds(10)) {
+      history.flush();
+      last_history_flush = now;
+    }
     // Largest kinetic/work ratio once the process is under way (after the first 10 % of the run,
     // when both energies are still tiny and their ratio meaningless).
     if (time_ >= 0.1 * settings_.end_time_s)
