@@ -43,7 +43,8 @@ double steady_pressure(const RunResult& r, const char* metric = "steady_extrusio
 //    +5.0 % and the ram +7.1 %; the same run at 0.5 mm (via a restart, 2026-12-04) gave +3.06 % and
 //    +3.7 % (docs/validation/ram_extrusion.md 1a).
 //    The case's 1.5 mm stroke and window 1.0-1.5 mm: at its 1e6 kg/m^3 a 0.5-0.8 mm window is still in
-//    the start-up transient. 142,750 steps of 39,200 particles: about 3 h on one thread.
+//    the start-up transient. 142,750 steps of 39,200 particles: about 3 h on one thread, 5,963 s on two
+//    (SPHFORGE_TEST_THREADS=2, 2026-12-04: passed, section +3.04 %, ram +3.72 %).
 TEST(PasteRamExtrusionValidation, SmoothOrificeHorrobinNedderman) {
   const RunResult r = run_case(kDir + "paste_orifice.json", "paste_orifice_smooth",
                                {R"(contact.tool_laws.barrel={"plugin":"coulomb","friction_coefficient":0.0})",
