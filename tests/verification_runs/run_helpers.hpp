@@ -60,11 +60,12 @@ inline std::string test_threads() {
   return text;
 }
 
-/// `sphforge run CASE --out OUT --force --quiet --set ...` on one thread (test_threads()).
-/// OMP_NUM_THREADS=1 and OMP_WAIT_POLICY=PASSIVE: the tests share a small machine. The particles do
-/// not depend on either (neighbour lists and per-particle sums are in a fixed order); the energy sums
-/// over all particles are OpenMP reductions and differ in their last digits (paste_orifice_quick on one
-/// and two threads: the same steady pressure to all 17 digits, kinetic energy 3e-15 apart relative).
+/// `sphforge run CASE --out OUT --force --quiet --set ...` on test_threads() threads (one by default),
+/// with OMP_WAIT_POLICY=PASSIVE: the tests share a small machine. The particle updates do not depend
+/// on the thread count (neighbour lists and per-particle sums are in a fixed order); sums over all
+/// particles are OpenMP reductions and differ in their last digits (paste_orifice_quick on one and two
+/// threads: the same steady pressure to all 17 digits, kinetic energy 3e-15 apart relative), so a
+/// case whose controller reads such a sum (a PID on a tool force) can part at round-off level.
 inline RunResult run_case(const std::string& case_file, const std::string& name, const std::vector<std::string>& sets) {
   RunResult r;
   r.out = output_dir(name);
