@@ -17,7 +17,7 @@ using namespace sphforge_verification;
 
 TEST(TaylorBarValidation, FinestWithinThreePercent) {
   const fs::path out = output_dir("taylor_bar_bench");
-  const std::string line = "env -u SPHFORGE_PLUGIN_PATH OMP_NUM_THREADS=1 OMP_WAIT_POLICY=PASSIVE " + shell_quote(kExe) +
+  const std::string line = sphforge_env() + shell_quote(kExe) +
                            " bench " + shell_quote((kCases / "taylor_bar_copper.json").string()) +
                            " --spacing \"0.6 mm,0.4 mm,0.3 mm\" --reference " +
                            shell_quote((kCases / "reference" / "taylor_bar_copper.json").string()) + " --out " +

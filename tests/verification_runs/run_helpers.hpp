@@ -49,30 +49,30 @@ inline fs::path output_dir(const std::string& name) {
   return dir;
 }
 
-/// Threads of a run: 1, or SPHFORGE_TEST_THREADS (a positive integer) for the hour-long validation
-/// runs on a machine nothing else uses.
-inline std::string test_threads() {
-  const char* env = std::getenv("SPHFORGE_TEST_THREADS");
-  if (env == nullptr || *env == '\0') return "1";
-  const std::string text = env;
-  if (text.find_first_not_of("0123456789") != std::string::npos || std::stoi(text) < 1)
-    throw std::invalid_argument("SPHFORGE_TEST_THREADS='" + text + "': not a positive integer");
-  return text;
+/// The environment a test's sphforge command runs in, as an `env ...` prefix: the build's own plugins,
+/// OMP_WAIT_POLICY=PASSIVE, and one thread, or SPHFORGE_TEST_THREADS (a positive integer) for the
+/// hour-long validation runs on a machine nothing else uses.
+inline std::string sphforge_env() {
+  std::string threads = "1";
+  if (const char* env = std::getenv("SPHFORGE_TEST_THREADS"); env != nullptr && *env != '\0') {
+    threads = env;
+    if (threads.find_first_not_of("0123456789") != std::string::npos || std::stoi(threads) < 1)
+      throw std::invalid_argument("SPHFORGE_TEST_THREADS='" + threads + "': not a positive integer");
+  }
+  return "env -u SPHFORGE_PLUGIN_PATH OMP_NUM_THREADS=" + threads + " OMP_WAIT_POLICY=PASSIVE ";
 }
 
-/// `sphforge run CASE --out OUT --force --quiet --set ...` on test_threads() threads (one by default),
-/// with OMP_WAIT_POLICY=PASSIVE: the tests share a small machine. The particle updates do not depend
-/// on the thread count (neighbour lists and per-particle sums are in a fixed order); sums over all
-/// particles are OpenMP reductions and differ in their last digits (paste_orifice_quick on one and two
+/// `sphforge run CASE --out OUT --force --quiet --set ...` in sphforge_env() (one thread by default):
+/// the tests share a small machine. The particle updates do not depend on the thread count
+/// (neighbour lists and per-particle sums are in a fixed order); sums over all particles are OpenMP
+/// reductions and differ in their last digits (paste_orifice_quick on one and two
 /// threads: the same steady pressure to all 17 digits, kinetic energy 3e-15 apart relative), so a
 /// case whose controller reads such a sum (a PID on a tool force) can part at round-off level.
 inline RunResult run_case(const std::string& case_file, const std::string& name, const std::vector<std::string>& sets) {
   RunResult r;
   r.out = output_dir(name);
-  std::string line = "env -u SPHFORGE_PLUGIN_PATH OMP_NUM_THREADS=" + test_threads() + " OMP_WAIT_POLICY=PASSIVE " +
-                     shell_quote(kExe) +
-                     " run " + shell_quote((kCases / case_file).string()) + " --out " + shell_quote(r.out.string()) +
-                     " --force --quiet";
+  std::string line = sphforge_env() + shell_quote(kExe) + " run " + shell_quote((kCases / case_file).string()) +
+                     " --out " + shell_quote(r.out.string()) + " --force --quiet";
   for (const std::string& s : sets) line += " --set " + shell_quote(s);
   const fs::path err = r.out.string() + ".stderr.txt";
   line += " >/dev/null 2>" + shell_quote(err.string());

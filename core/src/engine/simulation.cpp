@@ -249,16 +249,12 @@ std::string at_position(const double* x, std::size_t i) {
 // --- progress -------------------------------------------------------------------------------------
 class Progress {
  public:
-  Progress(ProgressMode mode, double end_time) : end_time_(end_time) {
+  /// start_time and start_steps: where this invocation starts (a restart at its checkpoint). The rate
+  /// and the ETA count only the steps and the simulated time done since then, the percentage the whole run.
+  Progress(ProgressMode mode, double start_time, long long start_steps, double end_time)
+      : end_time_(end_time), start_time_(start_time), start_steps_(start_steps) {
     if (mode == ProgressMode::Auto) mode = isatty(STDERR_FILENO) ? ProgressMode::Bar : ProgressMode::Lines;
     mode_ = mode;
-    start_ = last_ = std::chrono::steady_clock::now();
-  }
-  /// Where this invocation starts (a restart starts at its checkpoint): the rate and the ETA count
-  /// only the steps and the simulated time done since then, the percentage the whole run.
-  void start_at(double time, long long steps) {
-    start_time_ = time;
-    start_steps_ = steps;
     start_ = last_ = std::chrono::steady_clock::now();
   }
   void update(double time, long long steps, bool force = false) {
@@ -294,8 +290,8 @@ class Progress {
  private:
   ProgressMode mode_;
   double end_time_;
-  double start_time_ = 0.0;
-  long long start_steps_ = 0;
+  double start_time_;
+  long long start_steps_;
   std::chrono::steady_clock::time_point start_, last_;
 };
 
@@ -1499,7 +1495,7 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
   io::ParticleSeriesWriter particle_writer(out_dir);
   io::ToolSeriesWriter tool_writer(out_dir);
   io::HistoryWriter history(out_dir / "history.csv", history_header());
-  Progress progress(progress_mode, settings_.end_time_s);
+  Progress progress(progress_mode, time_, step_, settings_.end_time_s);  // time_, step_: the checkpoint's on a restart
 
   // Arrays a frame writes besides the fields. The friction laws' memory, kept by the contact pass
   // for the touching particles only, is written like a field (friction_history_<tool>, 3 per
@@ -1536,7 +1532,8 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     const std::vector<double> row = history_row();
     history.append(row);
     last_history_time = time_;
-    if (const auto now = std::chrono::steady_clock::now(); now - last_history_flush > std::chrono::seconds(10)) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_history_flush > std::chrono::seconds(10)) {
       history.flush();
       last_history_flush = now;
     }
@@ -1555,7 +1552,6 @@ Simulation::RunResult Simulation::run(const fs::path& out_dir, ProgressMode prog
     history_rows_copied = io::copy_history_rows(earlier / "history.csv", history_header(), time_, history);
     particle_writer.continue_series(earlier / "particles.pvd", time_);
     tool_writer.continue_series(earlier / "tools.pvd", time_);
-    progress.start_at(time_, step_);
   } else {
     prepare_run();
     // Measure once so that the first history row is meaningful.
