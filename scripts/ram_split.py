@@ -18,7 +18,9 @@ measures the parts in the frames particles_NNNNNN.vtu whose ram displacement lie
               -v_z; also of the particles within dx of the wall) and tau_w of the case's Navier law
               at that speed; the packing, sum(m/rho) of the
               land particles over the bore's volume (1 when the particles fill the bore at their
-              own density)
+              own density); the contacts' coverage, their number times dx^2 over the land's wall
+              area (each contact carries the wall stress over dx^2, eq. 18c), and their axial force
+              over dx^2 times the Navier law at each contact's own slip (1 when the law holds)
   energy      (with --yield-stress, a perfectly plastic material) the ram's power split by where it
               goes, each as a pressure-equivalent, power / (A0 V_ram): plastic dissipation
               sigma_y sum V d(eps_p)/dt from consecutive frames (particles matched by id), the
@@ -135,10 +137,17 @@ def main():
         speed = -(m[land] * f["velocity"][land, 2]).sum() / m[land].sum()
         wall = land & (r > Rd - dx)  # the particles next to the land's wall
         wall_speed = -(m[wall] * f["velocity"][wall, 2]).sum() / m[wall].sum()
+        # The land's contacts: each carries the wall law's stress times dx^2 (theory eq. 18c), so the
+        # wall's force is (contacts x dx^2 / wall area) x the law's stress at the contacts' own slip.
+        touching = wall & (np.abs(f["contact_force"]).sum(axis=1) > 0)
+        slip = np.maximum(-f["velocity"][touching, 2], 0.0)
         row = {"u": u, "p_ex": p_ex, "barrel": p_barrel, "p2": p2, "p1": p_ex - p_barrel - p2,
                "tau_gradient": gradient * Rd / 2, "speed": speed, "wall_speed": wall_speed,
                "tau_wall": sectors * fz[land].sum() / (2 * math.pi * Rd * inner_length),
-               "packing": sectors * volume[land].sum() / (math.pi * Rd * Rd * inner_length)}
+               "packing": sectors * volume[land].sum() / (math.pi * Rd * Rd * inner_length),
+               "coverage": sectors * touching.sum() * dx * dx / (2 * math.pi * Rd * inner_length),
+               "law_ratio": fz[touching].sum() / (dx * dx * (tau0 + beta * slip ** n_exp).sum())
+               if touching.any() else float("nan")}
         if a.cone_angle:
             th = math.radians(a.cone_angle)
             e_r = np.zeros_like(x[:, :2])
@@ -171,6 +180,8 @@ def main():
     print(f"  land: tau from the stress gradient {mean['tau_gradient']/1e3:.1f} kPa, from the wall {mean['tau_wall']/1e3:.1f} kPa; "
           f"speed {mean['speed']:.4f} m/s (next to the wall {mean['wall_speed']:.4f}; V_ex {v_window:.4f}), tau_w there {tau_w(mean['speed'])/1e3:.1f} kPa; "
           f"packing {mean['packing']:.3f}")
+    print(f"  land contacts: contacts x dx^2 / wall area {mean['coverage']:.3f}; their axial force against "
+          f"dx^2 x the Navier law at each one's slip {mean['law_ratio']:.3f}")
     if a.yield_stress and plastic:
         ti = [frames[0][3], frames[-1][3]]
         rate = lambda k: sectors * (np.interp(ti[1], t, history[k]) - np.interp(ti[0], t, history[k])) / (ti[1] - ti[0])
