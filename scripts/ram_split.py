@@ -19,7 +19,7 @@ measures the parts in the frames particles_NNNNNN.vtu whose ram displacement lie
               at that speed; the packing, sum(m/rho) of the
               land particles over the bore's volume (1 when the particles fill the bore at their
               own density); the contacts' coverage, their number times dx^2 over the land's wall
-              area (each contact carries the wall stress over dx^2, eq. 18c), and their axial force
+              area (each contact carries the wall stress over dx^2, eq. 18g), and their axial force
               over dx^2 times the Navier law at each contact's own slip (1 when the law holds)
   energy      (with --yield-stress, a perfectly plastic material) the ram's power split by where it
               goes, each as a pressure-equivalent, power / (A0 V_ram): plastic dissipation
@@ -137,7 +137,7 @@ def main():
         speed = -(m[land] * f["velocity"][land, 2]).sum() / m[land].sum()
         wall = land & (r > Rd - dx)  # the particles next to the land's wall
         wall_speed = -(m[wall] * f["velocity"][wall, 2]).sum() / m[wall].sum()
-        # The land's contacts: each carries the wall law's stress times dx^2 (theory eq. 18c), so the
+        # The land's contacts: each carries the wall law's stress times dx^2 (theory eq. 18g), so the
         # wall's force is (contacts x dx^2 / wall area) x the law's stress at the contacts' own slip.
         touching = wall & (np.abs(f["contact_force"]).sum(axis=1) > 0)
         slip = np.maximum(-f["velocity"][touching, 2], 0.0)
