@@ -7,6 +7,8 @@
 
 #include "command_line.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -15,6 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -140,3 +143,39 @@ TEST(FrictionExtrusion, FrictionHeatRateIsTheCoresFrictionHeatOverTheTimeScaling
 }
 
 }  // namespace
+
+TEST(FrictionExtrusion, TimeMeanForceIsTheStepWeightedHistoryMean) {
+  // Eq. 108a: the summary's time mean of the force over the steady window equals the history's
+  // per-step forces weighted by their process-time steps, the history written at every step
+  // (history_interval far below the step). Both sum the same doubles in a different order (running
+  // sums against this loop over the printed rows, 17 digits): 1e-9 bounds that. Also checked: the
+  // sample mean of eq. 108 differs from the time mean by more than that (the aliasing eq. 108a is there
+  // for), so the comparison would notice a time mean that fell back to the samples.
+  const fs::path dir = scratch("timemean");
+  const Result r = sphforge({"run", kQuick, "--out", "out", "--quiet", "--set", "run.end_time=0.05 s", "--set",
+                             "run.history_interval=1e-9 s"},
+                            dir);
+  ASSERT_EQ(r.code, 0) << describe(r);
+  std::ifstream in(dir / "out" / "summary.json");
+  const nlohmann::json metrics = nlohmann::json::parse(in).at("metrics");
+  ASSERT_TRUE(metrics.contains("steady_time_mean_force_N")) << metrics.dump(1);
+  const double t_a = metrics.at("steady_start_time_s").get<double>();
+  const double time_mean = metrics.at("steady_time_mean_force_N").get<double>();
+  const double sample_mean = metrics.at("steady_mean_force_N").get<double>();
+  const Table t = read_table(dir / "out" / "history.csv");
+  const std::size_t time = t.column("process_time_s"), force = t.column("extrusion_force_N");
+  double integral = 0.0, t_end = t_a, previous = 0.0;
+  int steps = 0;
+  for (const std::vector<double>& v : t.rows) {
+    if (v.size() != t.head.size()) continue;
+    if (v[time] > t_a) integral += v[force] * (v[time] - previous), t_end = v[time], ++steps;
+    previous = v[time];
+  }
+  ASSERT_GT(steps, 100);
+  const double history_mean = integral / (t_end - t_a);
+  std::printf("steady window from %.4f to %.4f s of process, %d steps: time mean %.6f kN (history %.6f kN), "
+              "sample mean %.6f kN\n",
+              t_a, t_end, steps, time_mean / 1e3, history_mean / 1e3, sample_mean / 1e3);
+  EXPECT_NEAR(time_mean, history_mean, 1e-9 * std::abs(history_mean));
+  EXPECT_GT(std::abs(sample_mean - history_mean), 1e-9 * std::abs(history_mean));
+}

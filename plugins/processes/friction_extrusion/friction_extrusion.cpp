@@ -250,10 +250,15 @@ class FrictionExtrusion final : public Process {
     FieldRegistry& f = *ctx.fields;
     refresh(f);
     const double fs = ctx.time_scaling;
+    const double previous_time = process_time_;
     process_time_ = ctx.time_s * fs;  // eq. (102)
     const RigidTool& die = (*ctx.tools)[die_];
     // Extrusion force: z reaction (contact + friction) on the die, full body (eq. 101).
     force_ = sectors_ * die.reaction_force_N.z();
+    // Running integrals of F and (F - F_t)^2 over process time (eq. 108a): this step's force acted
+    // over the step.
+    force_integral_ += force_ * (process_time_ - previous_time);
+    error_sq_integral_ += (force_ - target_) * (force_ - target_) * (process_time_ - previous_time);
     torque_ = sectors_ * die.reaction_torque_Nm;
     displacement_ = face_z0_ - die.axial_offset_m;
     const double face = die.axial_offset_m;
@@ -331,7 +336,7 @@ class FrictionExtrusion final : public Process {
     }
     // Samples for the Table D.1 metrics (eq. 108), every metrics_sample_interval of process time.
     if (ctx.dt_s > 0.0 && process_time_ >= next_sample_) {
-      samples_.push_back({process_time_, force_, plunge_velocity_});
+      samples_.push_back({process_time_, force_, plunge_velocity_, force_integral_, error_sq_integral_});
       next_sample_ = process_time_ + sample_interval_;
     }
     peak_interface_T_ = std::max(peak_interface_T_, std::isnan(interface_T_) ? 0.0 : interface_T_);
@@ -345,14 +350,26 @@ class FrictionExtrusion final : public Process {
   bool supports_restart() const override { return true; }
   nlohmann::json save_state() const override {
     json samples = json::array();
-    for (const Sample& x : samples_) samples.push_back({x.t, x.force, x.velocity});
-    return {{"samples", samples}, {"next_sample", next_sample_}, {"peak_interface_temperature", peak_interface_T_}};
+    for (const Sample& x : samples_) samples.push_back({x.t, x.force, x.velocity, x.force_integral, x.error_sq_integral});
+    return {{"samples", samples},
+            {"next_sample", next_sample_},
+            {"peak_interface_temperature", peak_interface_T_},
+            {"process_time", process_time_},
+            {"force_integral", force_integral_},
+            {"error_sq_integral", error_sq_integral_}};
   }
   void restore_state(const nlohmann::json& s) override {
     samples_.clear();
-    for (const json& x : s.at("samples")) samples_.push_back({x.at(0).get<double>(), x.at(1).get<double>(), x.at(2).get<double>()});
+    // Checkpoints written before eq. 108a carry no integrals: the time means then read NaN.
+    const double none = std::numeric_limits<double>::quiet_NaN();
+    for (const json& x : s.at("samples"))
+      samples_.push_back({x.at(0).get<double>(), x.at(1).get<double>(), x.at(2).get<double>(),
+                          x.size() > 3 ? x.at(3).get<double>() : none, x.size() > 4 ? x.at(4).get<double>() : none});
     next_sample_ = s.at("next_sample").get<double>();
     peak_interface_T_ = s.at("peak_interface_temperature").get<double>();
+    process_time_ = s.value("process_time", none);
+    force_integral_ = s.value("force_integral", none);
+    error_sq_integral_ = s.value("error_sq_integral", none);
   }
 
   std::vector<HistoryColumn> history_columns() const override {
@@ -415,8 +432,10 @@ class FrictionExtrusion final : public Process {
     m["settled"] = !ever_outside || settle < s.back().t;
     double n = 0, err = 0, sq = 0, fsum = 0, vsum = 0, v2 = 0;
     double vmin = std::numeric_limits<double>::infinity(), vmax = -vmin;
+    const Sample* first = nullptr;  // the first steady sample: where the time means of eq. 108a start
     for (const Sample& x : s) {
       if (x.t <= settle && ever_outside) continue;
+      if (first == nullptr) first = &x;
       n += 1;
       err += std::abs(x.force - target_);
       sq += (x.force - target_) * (x.force - target_);
@@ -432,6 +451,14 @@ class FrictionExtrusion final : public Process {
     m["steady_mean_force_error_pct"] = 100.0 * err / n / target_;
     m["steady_mean_force_N"] = fsum / n;
     m["steady_force_rmse_N"] = std::sqrt(sq / n);
+    // Eq. 108a: the same window's time means over every step, which the samples alias (the PID's
+    // command moves the force within a sample interval; docs/validation/friction_extrusion.md).
+    const double span = process_time_ - first->t;
+    m["steady_start_time_s"] = first->t;
+    m["steady_time_mean_force_N"] = span > 0.0 ? (force_integral_ - first->force_integral) / span : first->force;
+    m["steady_time_mean_force_deviation_pct"] = 100.0 * (m["steady_time_mean_force_N"].get<double>() - target_) / target_;
+    m["steady_time_force_rmse_N"] =
+        span > 0.0 ? std::sqrt(std::max(0.0, error_sq_integral_ - first->error_sq_integral) / span) : std::abs(first->force - target_);
     m["steady_die_velocity_min_m_s"] = vmin;
     m["steady_die_velocity_max_m_s"] = vmax;
     m["steady_die_velocity_mean_m_s"] = vmean;
@@ -478,6 +505,7 @@ class FrictionExtrusion final : public Process {
   };
   struct Sample {
     double t, force, velocity;
+    double force_integral, error_sq_integral;  // running integrals at t (eq. 108a)
   };
 
   std::string file_;
@@ -501,6 +529,7 @@ class FrictionExtrusion final : public Process {
   double plunge_velocity_ = 0.0, angular_velocity_ = 0.0;
   double force_ = 0.0, torque_ = 0.0, displacement_ = 0.0, interface_T_ = 0.0, die_tc_T_ = 0.0, process_time_ = 0.0;
   double contacts_ = 0.0, friction_heat_ = 0.0, plastic_heat_ = 0.0, rod_length_ = 0.0, peak_interface_T_ = 0.0;
+  double force_integral_ = 0.0, error_sq_integral_ = 0.0;  // N s and N^2 s of process time (eq. 108a)
 };
 
 const PluginDescriptor& descriptor() {
