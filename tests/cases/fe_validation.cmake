@@ -13,7 +13,7 @@ foreach(key steady_mean_force_N steady_time_mean_force_N steady_force_rmse_N ste
 endforeach()
 # Item 1: mean force within 1 % of 300 kN after settling; RMSE at most 8.6 kN (the paper's against the experiment).
 check_between("1. steady mean force (N)" steady_mean_force_N 297000 303000)
-# The same window averaged over every step (theory eq. 108a): the samples alias the PID's saw-tooth.
+# The same window averaged over every step (theory eq. 108a), independent of the samples' phase.
 check_between("1. steady time-mean force (N)" steady_time_mean_force_N 297000 303000)
 check_between("1. force RMSE (N)" steady_force_rmse_N 0 8600)
 # Item 2: die velocity within the range of the paper's gain sets (Table D.1): min 0.08-0.22, max 0.34-0.40 mm/s.

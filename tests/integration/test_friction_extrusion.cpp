@@ -61,6 +61,7 @@ struct Table {
     return 0;
   }
 };
+/// Only complete rows are kept (a row with fewer cells than the header is a partial last line).
 Table read_table(const fs::path& file) {
   Table t;
   const std::vector<std::string> lines = lines_of(slurp(file));
@@ -69,7 +70,7 @@ Table read_table(const fs::path& file) {
   for (std::size_t r = 1; r < lines.size(); ++r) {
     std::vector<double> row;
     for (const std::string& cell : split(lines[r], ',')) row.push_back(std::strtod(cell.c_str(), nullptr));
-    t.rows.push_back(row);
+    if (row.size() == t.head.size()) t.rows.push_back(row);
   }
   return t;
 }
@@ -128,7 +129,6 @@ TEST(FrictionExtrusion, FrictionHeatRateIsTheCoresFrictionHeatOverTheTimeScaling
   int compared = 0;
   double worst = 0.0;
   for (const std::vector<double>& v : t.rows) {
-    if (v.size() != t.head.size()) continue;
     const double q_process = v[process], q_core = v[core];
     if (q_core <= 0.0) continue;
     worst = std::max(worst, std::abs(10.0 * q_process - q_core) / q_core);  // time_scaling 10 (eq. 104)
@@ -141,8 +141,6 @@ TEST(FrictionExtrusion, FrictionHeatRateIsTheCoresFrictionHeatOverTheTimeScaling
   // projection would be off by a factor.
   EXPECT_LT(worst, 1e-3) << compared << " rows";
 }
-
-}  // namespace
 
 TEST(FrictionExtrusion, TimeMeanForceIsTheStepWeightedHistoryMean) {
   // Eq. 108a: the summary's time mean of the force over the steady window equals the history's
@@ -167,7 +165,6 @@ TEST(FrictionExtrusion, TimeMeanForceIsTheStepWeightedHistoryMean) {
   double integral = 0.0, t_end = t_a, previous = 0.0;
   int steps = 0;
   for (const std::vector<double>& v : t.rows) {
-    if (v.size() != t.head.size()) continue;
     if (v[time] > t_a) integral += v[force] * (v[time] - previous), t_end = v[time], ++steps;
     previous = v[time];
   }
@@ -179,3 +176,5 @@ TEST(FrictionExtrusion, TimeMeanForceIsTheStepWeightedHistoryMean) {
   EXPECT_NEAR(time_mean, history_mean, 1e-9 * std::abs(history_mean));
   EXPECT_GT(std::abs(sample_mean - history_mean), 1e-9 * std::abs(history_mean));
 }
+
+}  // namespace

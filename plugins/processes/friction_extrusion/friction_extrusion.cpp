@@ -257,8 +257,9 @@ class FrictionExtrusion final : public Process {
     force_ = sectors_ * die.reaction_force_N.z();
     // Running integrals of F and (F - F_t)^2 over process time (eq. 108a): this step's force acted
     // over the step.
-    force_integral_ += force_ * (process_time_ - previous_time);
-    error_sq_integral_ += (force_ - target_) * (force_ - target_) * (process_time_ - previous_time);
+    const double step = process_time_ - previous_time;
+    force_integral_ += force_ * step;
+    error_sq_integral_ += (force_ - target_) * (force_ - target_) * step;
     torque_ = sectors_ * die.reaction_torque_Nm;
     displacement_ = face_z0_ - die.axial_offset_m;
     const double face = die.axial_offset_m;
@@ -451,12 +452,13 @@ class FrictionExtrusion final : public Process {
     m["steady_mean_force_error_pct"] = 100.0 * err / n / target_;
     m["steady_mean_force_N"] = fsum / n;
     m["steady_force_rmse_N"] = std::sqrt(sq / n);
-    // Eq. 108a: the same window's time means over every step, which the samples alias (the PID's
-    // command moves the force within a sample interval; docs/validation/friction_extrusion.md).
+    // Eq. 108a: the same window's time means over every step, independent of the samples' phase
+    // (the PID's command moves the force within a sample interval; docs/validation/friction_extrusion.md).
     const double span = process_time_ - first->t;
+    const double time_mean = span > 0.0 ? (force_integral_ - first->force_integral) / span : first->force;
     m["steady_start_time_s"] = first->t;
-    m["steady_time_mean_force_N"] = span > 0.0 ? (force_integral_ - first->force_integral) / span : first->force;
-    m["steady_time_mean_force_deviation_pct"] = 100.0 * (m["steady_time_mean_force_N"].get<double>() - target_) / target_;
+    m["steady_time_mean_force_N"] = time_mean;
+    m["steady_time_mean_force_deviation_pct"] = 100.0 * (time_mean - target_) / target_;
     m["steady_time_force_rmse_N"] =
         span > 0.0 ? std::sqrt(std::max(0.0, error_sq_integral_ - first->error_sq_integral) / span) : std::abs(first->force - target_);
     m["steady_die_velocity_min_m_s"] = vmin;
