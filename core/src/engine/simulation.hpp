@@ -28,6 +28,7 @@ struct CoreSettings {
   double thermal_neighbour_skin = 0.2;  ///< Verlet skin of the thermal lists, fraction of h (theory section 7)
   double domain_margin_m = -1.0;  ///< beyond the initial box: instability (-1: the box's size)
   bool gradient_correction = true;
+  bool momentum_correction = true;  ///< false: A = sigma in eq. 7 (eq. 7a)
   bool second_order_gradient = false;  ///< numerics.gradient_correction_order = "second" (section 18)
   ArtificialViscosity viscosity;
   ArtificialStress artificial_stress;
