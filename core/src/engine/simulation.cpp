@@ -68,8 +68,8 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::boolean("momentum_correction", true,
                          "false keeps the corrected velocity gradient (eq. 3b) but uses the plain stress term "
                          "A = sigma in the momentum equation (eq. 7a): it resists crowding at constant stress "
-                         "(paste lands, docs/validation/ram_extrusion.md 2g); costs: free faces soft, torque "
-                         "and energy consistency not exact"),
+                         "(paste lands, docs/validation/ram_extrusion.md 2g-2h); costs: not the dual of the "
+                         "corrected gradient, so free faces are soft and angular momentum is not exact"),
       ParamSpec::string("gradient_correction_order", std::string("first"),
                         "first: linear-consistent correction (eq. 3b); second: quadratic-consistent where the "
                         "neighbourhood allows, with its energy-consistent momentum term (theory section 18)",
