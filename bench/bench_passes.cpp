@@ -56,7 +56,7 @@ struct Block {
     stress_c.assign(9 * n, 0.0);
     velocity_gradient(nl, KernelKind::CubicSpline, h, x.data(), v.data(), volume.data(), true, L.data(), nullptr,
                       correction.data(), n);
-    corrected_stress(p.data(), S.data(), correction.data(), stress_c.data(), n);
+    corrected_stress(p.data(), S.data(), correction.data(), true, stress_c.data(), n);
   }
 };
 

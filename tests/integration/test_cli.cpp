@@ -848,11 +848,14 @@ TEST_F(Cli, CheckAcceptsTheSecondOrderGradientAndRejectsBadCombinations) {
   EXPECT_EQ(off.code, 2) << describe(off);
   EXPECT_TRUE(contains(off.err, "/numerics/gradient_correction_order")) << off.err;
   EXPECT_TRUE(contains(off.err, "needs numerics.gradient_correction = true")) << off.err;
-  // The plain momentum term (eq. 7a) replaces eq. 7 only; the second order has its own (eq. 136).
-  const Result plain = run({"check", plate, "--set", "numerics.gradient_correction_order=second", "--set",
-                            "numerics.momentum_correction=false"});
-  EXPECT_EQ(plain.code, 2) << describe(plain);
-  EXPECT_TRUE(contains(plain.err, "/numerics/momentum_correction")) << plain.err;
+  // The plain and deviatoric momentum terms (eqs. 7a, 7b) replace eq. 7 only; the second order has its
+  // own (eq. 136). A value that is not one of the three is refused at its pointer too.
+  for (const char* mode : {"none", "deviatoric", "partial"}) {
+    const Result plain = run({"check", plate, "--set", "numerics.gradient_correction_order=second", "--set",
+                              std::string("numerics.momentum_correction=") + mode});
+    EXPECT_EQ(plain.code, 2) << mode << ": " << describe(plain);
+    EXPECT_TRUE(contains(plain.err, "/numerics/momentum_correction")) << mode << ": " << plain.err;
+  }
   const std::string cylinder =
       std::string(SPHFORGE_SOURCE_DIR) + "/cases/verification/spinning_compressed_cylinder.json";
   const Result sym = run({"check", cylinder, "--set", "numerics.symmetry.sector.angle=90 deg", "--set",

@@ -85,7 +85,7 @@ struct TwoParticles {
     failed = {failed_i, failed_j};
     sigma.resize(6 * n);
     cauchy_stress(p.data(), S.data(), sigma.data(), n);
-    corrected_stress(p.data(), S.data(), nullptr, stress_c.data(), n);
+    corrected_stress(p.data(), S.data(), nullptr, true, stress_c.data(), n);
     nl.build(x.data(), n, kernel_support_radius(h) + 0.2 * h);
   }
   BondFailure rule() const { return {failed.data(), sigma.data()}; }

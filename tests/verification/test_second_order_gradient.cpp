@@ -270,7 +270,7 @@ TEST(SecondOrderGradient, MomentumTermIsDualToTheGradient) {
   const Gradients g = gradients(c, KernelKind::CubicSpline, v);
   const std::vector<double>&B = g.B, &C = g.C, &L = g.second;
   std::vector<double> stress_c(9 * c.n), stress_b(27 * c.n), a(3 * c.n);
-  corrected_stress(p.data(), S.data(), C.data(), stress_c.data(), c.n);
+  corrected_stress(p.data(), S.data(), C.data(), true, stress_c.data(), c.n);
   second_order_stress(p.data(), S.data(), B.data(), stress_b.data(), c.n);
   ArtificialViscosity no_viscosity{0.0, 0.0, 0.1};
   ArtificialStress no_stress{0.0, 4.0, 1.0};

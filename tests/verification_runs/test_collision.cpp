@@ -68,12 +68,18 @@ void check_collision(const std::string& tag, const std::vector<std::string>& set
 
 TEST(Collision, MomentumToRoundOffEnergyNeverGrows) { check_collision("collision", {}); }
 
-// The plain stress term of eq. 7a (`numerics.momentum_correction` = false, A = sigma) keeps the pair
+// The plain stress term of eq. 7a (`numerics.momentum_correction` = none, A = sigma) keeps the pair
 // forces antisymmetric, and the internal energy still books their work (eq. 27), so both invariants
 // hold to round-off with the same tolerances (measured 2.5e-15 and 1.4e-14). What the plain term gives
 // up (torque-freedom, free-face stiffness) is measured in docs/verification.md, "The plain momentum term".
 TEST(Collision, PlainMomentumTermMomentumToRoundOffEnergyNeverGrows) {
-  check_collision("collision_plain_momentum", {"numerics.momentum_correction=false"});
+  check_collision("collision_plain_momentum", {"numerics.momentum_correction=none"});
+}
+
+// The same for the deviatoric-only correction (eq. 7b, A = S C - p I): its pair force is antisymmetric
+// and booked by eq. 27 like the others, so the same invariants and tolerances.
+TEST(Collision, DeviatoricMomentumCorrectionMomentumToRoundOffEnergyNeverGrows) {
+  check_collision("collision_deviatoric_momentum", {"numerics.momentum_correction=deviatoric"});
 }
 
 }  // namespace

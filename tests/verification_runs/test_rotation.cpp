@@ -172,4 +172,14 @@ TEST(RigidRotation, FreeSpinningDiscMomentumSecondOrderGradient) {
   EXPECT_LT(second.dh, 1e-12) << second.line;
 }
 
+// The deviatoric-only correction (numerics.momentum_correction = deviatoric, theory eq. 7b): its pressure
+// part is the plain -p I, a central pair force, and S C's torque sums to -sum_i V_i eps : S_i = 0 as for
+// eq. 7, so the pair forces exert no net torque either (the fully plain term, eq. 7a, loses 1.4e-4 per
+// revolution here: docs/verification.md 5b). Same tolerance and reason as above.
+TEST(RigidRotation, FreeSpinningDiscMomentumDeviatoricCorrection) {
+  const SpinResult dev = spin("spinning_disc_deviatoric", {"numerics.momentum_correction=deviatoric"});
+  EXPECT_LT(dev.dp, 1e-12) << dev.line;
+  EXPECT_LT(dev.dh, 1e-12) << dev.line;
+}
+
 }  // namespace

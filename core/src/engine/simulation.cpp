@@ -65,11 +65,15 @@ const ParamSpecs& numerics_specs() {
       ParamSpec::object("artificial_viscosity", "Monaghan artificial viscosity coefficients"),
       ParamSpec::boolean("gradient_correction", true,
                          "first-order (Randles-Libersky) correction of the velocity gradient (theory eq. 3b)"),
-      ParamSpec::boolean("momentum_correction", true,
-                         "false keeps the corrected velocity gradient (eq. 3b) but uses the plain stress term "
-                         "A = sigma in the momentum equation (eq. 7a): it resists crowding at constant stress "
-                         "(paste lands, docs/validation/ram_extrusion.md 2g-2h); costs: not the dual of the "
-                         "corrected gradient, so free faces are soft and angular momentum is not exact"),
+      ParamSpec::string("momentum_correction", std::string("full"),
+                        "which part of the stress the correction C multiplies in the momentum equation, while the "
+                        "velocity gradient stays corrected (eq. 3b). full: A = sigma C (eq. 7, the dual of the "
+                        "corrected gradient); none: A = sigma (eq. 7a); deviatoric: A = S C - p I (eq. 7b). The "
+                        "plain pressure term resists crowding under pressure (paste lands, docs/validation/"
+                        "ram_extrusion.md 2g-2i). Costs (docs/verification.md 5b): none makes free faces soft (a "
+                        "bar's wave -12 % at 4 particles across) and angular momentum inexact; deviatoric keeps "
+                        "angular momentum exact and halves the softness",
+                        {"full", "deviatoric", "none"}),
       ParamSpec::string("gradient_correction_order", std::string("first"),
                         "first: linear-consistent correction (eq. 3b); second: quadratic-consistent where the "
                         "neighbourhood allows, with its energy-consistent momentum term (theory section 18)",
@@ -357,13 +361,16 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
                                         : settings_.neighbour_skin;
   settings_.domain_margin_m = numerics.number("domain_margin");
   settings_.gradient_correction = numerics.boolean("gradient_correction");
-  settings_.momentum_correction = numerics.boolean("momentum_correction");
+  const std::string momentum = numerics.string("momentum_correction");
+  settings_.momentum_correction = momentum == "none"         ? MomentumCorrection::None
+                                  : momentum == "deviatoric" ? MomentumCorrection::Deviatoric
+                                                             : MomentumCorrection::Full;
   settings_.second_order_gradient = numerics.string("gradient_correction_order") == "second";
   if (settings_.second_order_gradient && !settings_.gradient_correction)
     numerics.fail("gradient_correction_order", "\"second\" needs numerics.gradient_correction = true");
-  if (settings_.second_order_gradient && !settings_.momentum_correction)
-    numerics.fail("momentum_correction", "false needs numerics.gradient_correction_order = \"first\" (the second "
-                                         "order has its own momentum term, eq. 136)");
+  if (settings_.second_order_gradient && settings_.momentum_correction != MomentumCorrection::Full)
+    numerics.fail("momentum_correction", "\"" + momentum + "\" needs numerics.gradient_correction_order = \"first\" "
+                                         "(the second order has its own momentum term, eq. 136)");
   if (settings_.second_order_gradient && numerics.has("symmetry") && numerics.raw("symmetry").is_object() &&
       !numerics.raw("symmetry").empty())
     numerics.fail("gradient_correction_order", "\"second\" is not implemented with numerics.symmetry (ghost "
@@ -1101,7 +1108,8 @@ void Simulation::mechanics_rates() {
     materials_[b.material]->update_stress(batch);
     if (need_yield_) materials_[b.material]->yield_stress(batch, yield_scratch_.data() + b.first);
   }
-  corrected_stress(p, S, settings_.momentum_correction ? correction : nullptr, stress_c, n);
+  corrected_stress(p, S, settings_.momentum_correction == MomentumCorrection::None ? nullptr : correction,
+                   settings_.momentum_correction == MomentumCorrection::Full, stress_c, n);
   if (second) second_order_stress(p, S, second_b, stress_b, n);
   if (artificial) {
     stress_over_density_squared(p, S, rho, artificial, n);

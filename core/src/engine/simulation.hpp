@@ -18,6 +18,9 @@
 
 namespace sphforge {
 
+/// numerics.momentum_correction: the part of sigma the correction C multiplies in eq. 7.
+enum class MomentumCorrection { Full, Deviatoric, None };
+
 /// Settings of the core read from the case ("numerics", "run", "contact").
 struct CoreSettings {
   std::string case_name;
@@ -28,7 +31,9 @@ struct CoreSettings {
   double thermal_neighbour_skin = 0.2;  ///< Verlet skin of the thermal lists, fraction of h (theory section 7)
   double domain_margin_m = -1.0;  ///< beyond the initial box: instability (-1: the box's size)
   bool gradient_correction = true;
-  bool momentum_correction = true;  ///< false: A = sigma in eq. 7 (eq. 7a)
+  /// Which part of sigma the correction C multiplies in eq. 7: all (eq. 7), none (A = sigma, eq. 7a) or the
+  /// deviatoric part only (A = S C - p I, eq. 7b).
+  MomentumCorrection momentum_correction = MomentumCorrection::Full;
   bool second_order_gradient = false;  ///< numerics.gradient_correction_order = "second" (section 18)
   ArtificialViscosity viscosity;
   ArtificialStress artificial_stress;

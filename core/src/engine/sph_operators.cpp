@@ -309,16 +309,18 @@ void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, con
   }
 }
 
-void corrected_stress(const double* pressure, const double* S, const double* correction, double* stress_c,
-                      std::size_t n) {
+void corrected_stress(const double* pressure, const double* S, const double* correction, bool correct_pressure,
+                      double* stress_c, std::size_t n) {
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     const double* s = S + 6 * i;
-    const double sigma[9] = {s[0] - pressure[i], s[3], s[5], s[3], s[1] - pressure[i], s[4],
-                             s[5], s[4], s[2] - pressure[i]};
+    // The part C multiplies: sigma = S - p I (eq. 7), or S alone (eq. 7b: -p I is added uncorrected below).
+    const double p_c = correct_pressure ? pressure[i] : 0.0;
+    const double sigma[9] = {s[0] - p_c, s[3], s[5], s[3], s[1] - p_c, s[4], s[5], s[4], s[2] - p_c};
     double* out = stress_c + 9 * i;
-    if (!correction) {
+    if (!correction) {  // eq. 7a: A = sigma
       for (int c = 0; c < 9; ++c) out[c] = sigma[c];
+      for (int c = 0; c < 9; c += 4) out[c] -= pressure[i] - p_c;
       continue;
     }
     const double* k = correction + 6 * i;
@@ -326,6 +328,7 @@ void corrected_stress(const double* pressure, const double* S, const double* cor
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
         out[3 * a + b] = sigma[3 * a] * C[b] + sigma[3 * a + 1] * C[3 + b] + sigma[3 * a + 2] * C[6 + b];
+    for (int c = 0; c < 9; c += 4) out[c] -= pressure[i] - p_c;  // eq. 7b: the pressure's plain term
   }
 }
 

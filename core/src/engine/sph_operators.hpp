@@ -37,9 +37,10 @@ void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, con
                        std::size_t n, const BondFailure& failure = {});
 
 /// A_i = sigma_i C_i (9 per particle, row-major), sigma = S - p I, the per-particle half of the
-/// momentum equation (eq. 7); C null means C = I (no correction).
+/// momentum equation (eq. 7); C null means C = I (no correction, eq. 7a). With correct_pressure false
+/// only the deviatoric part is corrected, A_i = S_i C_i - p_i I (eq. 7b).
 void corrected_stress(const double* pressure, const double* deviatoric_stress, const double* correction,
-                      double* stress_c, std::size_t n);
+                      bool correct_pressure, double* stress_c, std::size_t n);
 
 /// sigma_i / rho_i^2 with sigma = S - p I (6 per particle), the input of the artificial stress.
 void stress_over_density_squared(const double* pressure, const double* deviatoric_stress, const double* density,
