@@ -1,13 +1,14 @@
 // The per-particle half of the momentum equation, A_i (corrected_stress, theory eqs. 7, 7a, 7b), for
 // the three values of numerics.momentum_correction: full A = sigma C, none A = sigma, deviatoric
 // A = S C - p I. Checked entry by entry against the products formed here with Eigen from a
-// non-symmetric-looking but symmetric correction C and a general stress, for several particles, so a
+// symmetric correction C with off-diagonal entries and a general stress, for several particles, so a
 // mode that corrected the wrong part (or dropped the pressure) fails. Tolerance 1e-12 relative: the
 // same products in a different summation order.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <vector>
 
 #include "engine/sph_operators.hpp"

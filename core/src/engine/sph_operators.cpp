@@ -318,17 +318,16 @@ void corrected_stress(const double* pressure, const double* S, const double* cor
     const double p_c = correct_pressure ? pressure[i] : 0.0;
     const double sigma[9] = {s[0] - p_c, s[3], s[5], s[3], s[1] - p_c, s[4], s[5], s[4], s[2] - p_c};
     double* out = stress_c + 9 * i;
-    if (!correction) {  // eq. 7a: A = sigma
+    if (correction) {
+      const double* k = correction + 6 * i;
+      const double C[9] = {k[0], k[3], k[5], k[3], k[1], k[4], k[5], k[4], k[2]};
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          out[3 * a + b] = sigma[3 * a] * C[b] + sigma[3 * a + 1] * C[3 + b] + sigma[3 * a + 2] * C[6 + b];
+    } else {  // eq. 7a: A = sigma
       for (int c = 0; c < 9; ++c) out[c] = sigma[c];
-      for (int c = 0; c < 9; c += 4) out[c] -= pressure[i] - p_c;
-      continue;
     }
-    const double* k = correction + 6 * i;
-    const double C[9] = {k[0], k[3], k[5], k[3], k[1], k[4], k[5], k[4], k[2]};
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        out[3 * a + b] = sigma[3 * a] * C[b] + sigma[3 * a + 1] * C[3 + b] + sigma[3 * a + 2] * C[6 + b];
-    for (int c = 0; c < 9; c += 4) out[c] -= pressure[i] - p_c;  // eq. 7b: the pressure's plain term
+    for (int c = 0; c < 9; c += 4) out[c] -= pressure[i] - p_c;  // the uncorrected pressure (eqs. 7a, 7b)
   }
 }
 
