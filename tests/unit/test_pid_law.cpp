@@ -7,6 +7,7 @@
 // 1e-4 (absolute, y is dimensionless) is the issue's; it is 10x that discretisation error.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -167,6 +168,75 @@ TEST(PidLaw, DerivativeOnMeasurementHasNoKickOnTargetStep) {
   EXPECT_DOUBLE_EQ(on_measurement.terms().derivative, 0.0);
   on_measurement.update(0.2, 2.0, 0.7);  // measurement rises by 0.2: D = -Kd dy/dt
   EXPECT_NEAR(on_measurement.terms().derivative, -2.0 * 0.2 / 0.1, 1e-12);
+}
+
+// Eq. 109a: a PID sampled faster than its plant can answer sees only a spring, F = k_c (x - v_f t), the
+// tool advancing by x' = u (command held over each sample) against a workpiece that yields at v_f. With
+// the friction-extrusion set 2 in process time (Kp 0.015 mm/s/kN, Ki 0.02 mm/s/kN/s, Kd 2e-5 mm/kN,
+// dt_pid 0.01 s, limits -0.04 .. 0.4 mm/s, integral clamp -0.01 .. 0.4 mm/s) the loop is stable iff
+// k_c (Kp dt_pid + 2 Kd) < 2, i.e. k_c < 1.053e10 N/m. Checked 10 % either side: below, the error decays
+// and the reversal count stays small; above, the count grows every sample and half the commands sit at
+// the lower limit. The integral shifts the limit only by O(Ki dt_pid / Kp) = 1.3 %, inside the margin.
+struct SpringLoop {
+  double worst_error_late = 0.0;  ///< max |F - F_t| over the last 1000 samples (N)
+  long reversals = 0;             ///< PidLaw::reversals() at the end
+  long max_reversals_late = 0;    ///< largest count over the last 1000 samples
+  int at_lower_limit_late = 0;    ///< of the last 1000 samples
+};
+
+SpringLoop run_spring_loop(double k_c) {
+  PidSettings s;
+  s.kp = 0.015e-3 / 1e3;  // (m/s)/N
+  s.ki = 0.02e-3 / 1e3;   // (m/s)/(N s)
+  s.kd = 2e-5 * 1e-3 / 1e3;  // m/N
+  s.command_min = -0.04e-3;
+  s.command_max = 0.4e-3;
+  s.integral_min = -0.01e-3;
+  s.integral_max = 0.4e-3;
+  s.anti_windup = AntiWindup::clamp;
+  s.sample_interval = 0.01;
+  PidLaw pid(s);
+  const double target = 300e3, v_flow = 0.005e-3, h = s.sample_interval;
+  const int samples = 12000;  // 120 s
+  double x = 0.0;  // tool advance (m)
+  SpringLoop r;
+  for (int k = 0; k <= samples; ++k) {
+    const double t = k * h;
+    const double force = std::max(0.0, k_c * (x - v_flow * t));  // a wall pushes, never pulls
+    pid.update(t, target, force);
+    const double u = pid.terms().command;
+    if (k > samples - 1000) {
+      r.worst_error_late = std::max(r.worst_error_late, std::abs(force - target));
+      r.max_reversals_late = std::max(r.max_reversals_late, pid.reversals());
+      r.at_lower_limit_late += u == s.command_min;
+    }
+    x += u * h;  // exact for u held over the sample
+  }
+  r.reversals = pid.reversals();
+  return r;
+}
+
+TEST(PidLaw, SampledSpringLoopIsStableOnlyBelowTheLimitOfEq109a) {
+  const double k_limit = 2.0 / (0.015e-3 / 1e3 * 0.01 + 2.0 * 2e-5 * 1e-3 / 1e3);
+  EXPECT_NEAR(k_limit, 1.0526e10, 1e6);
+  const SpringLoop stable = run_spring_loop(0.9 * k_limit);
+  const SpringLoop cycling = run_spring_loop(1.1 * k_limit);
+  std::printf("k_c 0.9 x limit: late |F - F_t| <= %.3g N, reversals late <= %ld, at -0.04: %d of 1000\n"
+              "k_c 1.1 x limit: late |F - F_t| <= %.3g N, reversals late <= %ld (end %ld), at -0.04: %d of 1000\n",
+              stable.worst_error_late, stable.max_reversals_late, stable.at_lower_limit_late,
+              cycling.worst_error_late, cycling.max_reversals_late, cycling.reversals,
+              cycling.at_lower_limit_late);
+  // Stable: the fast root (-0.84 per sample) has died out long before the last 10 s; 1 N is 3e-6 of
+  // the target, far above round-off of the 3e5 N force and far below the cycle's kN swing.
+  EXPECT_LT(stable.worst_error_late, 1.0);
+  EXPECT_LT(stable.max_reversals_late, 10);
+  EXPECT_EQ(stable.at_lower_limit_late, 0);
+  // Cycling: the count grows by one per sample once the cycle has formed, and every other command is
+  // clipped. A clipped cycle is not exactly periodic: now and then a change does not reverse and the
+  // count restarts (once, after 9,164 samples, in this run), so the bound asks for 500 in a row.
+  EXPECT_GE(cycling.max_reversals_late, 500);
+  EXPECT_GE(cycling.at_lower_limit_late, 450);
+  EXPECT_GT(cycling.worst_error_late, 1e3);
 }
 
 TEST(PiecewiseLinear, InterpolatesHoldsAndJumps) {

@@ -96,11 +96,15 @@ class Pid final : public Controller {
                 {name_ + "_p_" + cu, &terms_.proportional},
                 {name_ + "_i_" + cu, &terms_.integral},
                 {name_ + "_d_" + cu, &terms_.derivative},
-                {name_ + "_command_" + cu, &terms_.command}};
+                {name_ + "_command_" + cu, &terms_.command},
+                {name_ + "_reversals_1", &reversals_}};
   }
 
   void update(double time_s, double) override {
-    if (law_->update(time_s, target_, *measured_signal_->value)) terms_ = law_->terms();
+    if (law_->update(time_s, target_, *measured_signal_->value)) {
+      terms_ = law_->terms();
+      reversals_ = static_cast<double>(law_->reversals());
+    }
     *command_ = terms_.command;  // held between samples
   }
 
@@ -118,6 +122,7 @@ class Pid final : public Controller {
             {"integral", m.integral},            {"last_error", m.last_error},
             {"last_measured", m.last_measured},  {"last_time", m.last_time},
             {"next_sample", m.next_sample},      {"saturation_excess", m.saturation_excess},
+            {"last_change", m.last_change},      {"reversals", m.reversals},
             {"held_terms", terms(terms_)}};
   }
   void restore_state(const nlohmann::json& s) override {
@@ -134,8 +139,12 @@ class Pid final : public Controller {
     m.last_time = s.at("last_time").get<double>();
     m.next_sample = s.at("next_sample").get<double>();
     m.saturation_excess = s.at("saturation_excess").get<double>();
+    // Absent from checkpoints written before the diagnostic existed: the count restarts from 0.
+    m.last_change = s.value("last_change", 0.0);
+    m.reversals = s.value("reversals", 0L);
     law_->restore(m);
     terms_ = terms(s.at("held_terms"));
+    reversals_ = static_cast<double>(m.reversals);
   }
 
  private:
@@ -146,12 +155,13 @@ class Pid final : public Controller {
   double target_ = 0.0;
   std::optional<control::PidLaw> law_;
   control::PidTerms terms_;
+  double reversals_ = 0.0;  ///< law_->reversals() of the last sample, as a history column
   std::vector<HistoryColumn> columns_;
 };
 
 const PluginDescriptor& descriptor() {
   static const PluginDescriptor d = make_plugin_descriptor<Pid>(
-      "pid", "0.1.0",
+      "pid", "0.2.0",
       "PID control of a commanded quantity from a measured signal, sampled, saturated, with anti-windup",
       {
           ParamSpec::string("name", "pid", "prefix of its history columns and of its target command <name>_target"),

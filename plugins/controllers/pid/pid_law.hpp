@@ -11,6 +11,15 @@
 // Between samples the command is held (zero-order hold). The integral is advanced with the
 // elapsed time h rather than the nominal interval, so a sampling instant that falls a fraction
 // of a step late does not bias the integral.
+//
+// Diagnostic: reversals() counts the consecutive samples, up to the last, whose command change
+// reversed the direction of the previous change. A loop sampled faster than its plant can answer
+// is unstable beyond k_c (Kp dt_pid + 2 Kd) = 2 (eq. 109a) and then runs a period-2 cycle, which
+// raises the count by one every sample; a stable loop's oscillation dies out and the count stays
+// small (the AA7075 quick case: at most 2 at contact stiffness factor 0.05; 263 at the end of its
+// 300 samples at factor 1). A change that does not reverse, or none (within 1e-9 of the command's
+// size), resets it; a cycle clipped by the limits is not exactly periodic and may reset it now and
+// then, but it climbs into the hundreds in between.
 #pragma once
 
 #include <algorithm>
@@ -93,6 +102,15 @@ class PidLaw {
     t.command = std::clamp(unsaturated, s_.command_min, s_.command_max);  // eq. 63
     saturation_excess_ = t.command - unsaturated;
 
+    // A change at the round-off level of the command is no change: a settled loop's last bits
+    // alternate at random and must not read as a cycle.
+    const double change = sampled_ ? t.command - terms_.command : 0.0;
+    const double resolution = 1e-9 * std::max(std::abs(t.command), std::abs(terms_.command));
+    if (std::abs(change) <= resolution) reversals_ = 0;
+    else if (change * last_change_ < 0.0) ++reversals_;
+    else reversals_ = 0;
+    last_change_ = change;
+
     integral_ = integral;
     last_error_ = e;
     last_measured_ = measured;
@@ -107,6 +125,8 @@ class PidLaw {
 
   const PidTerms& terms() const { return terms_; }
   double integral() const { return integral_; }  ///< I, in measured units times s
+  /// Consecutive samples whose command change reversed the previous change (see the header).
+  long reversals() const { return reversals_; }
 
   /// Everything update() remembers between calls: what a restart must give back
   /// (the `pid` plugin's save_state()).
@@ -115,9 +135,12 @@ class PidLaw {
     bool sampled = false;
     double integral = 0.0, last_error = 0.0, last_measured = 0.0, last_time = 0.0;
     double next_sample = 0.0, saturation_excess = 0.0;
+    double last_change = 0.0;
+    long reversals = 0;
   };
   Memory memory() const {
-    return {terms_, sampled_, integral_, last_error_, last_measured_, last_time_, next_sample_, saturation_excess_};
+    return {terms_,       sampled_,           integral_,    last_error_, last_measured_, last_time_,
+            next_sample_, saturation_excess_, last_change_, reversals_};
   }
   void restore(const Memory& m) {
     terms_ = m.terms;
@@ -128,6 +151,8 @@ class PidLaw {
     last_time_ = m.last_time;
     next_sample_ = m.next_sample;
     saturation_excess_ = m.saturation_excess;
+    last_change_ = m.last_change;
+    reversals_ = m.reversals;
   }
 
  private:
@@ -136,6 +161,8 @@ class PidLaw {
   bool sampled_ = false;
   double integral_ = 0.0, last_error_ = 0.0, last_measured_ = 0.0, last_time_ = 0.0;
   double next_sample_ = 0.0, saturation_excess_ = 0.0;
+  double last_change_ = 0.0;  ///< command change at the last sample (0 at the first)
+  long reversals_ = 0;
 };
 
 }  // namespace sphforge::control
