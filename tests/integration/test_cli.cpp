@@ -523,6 +523,11 @@ TEST_F(Cli, RestartRepeatsTheRunForEveryProcessPlugin) {
        {"run.end_time=1e-4 s", "run.history_interval=2e-6 s", "run.checkpoint_interval=4e-5 s"}},
       {src + "/cases/verification/tool_heat_rotating_die.json",
        {"run.end_time=2 ms", "run.history_interval=0.02 ms", "run.checkpoint_interval=0.7 ms"}},
+      // Sub-cycled thermal pass (eq. 26b): a checkpoint between two thermal steps holds the time since
+      // the last one and the die's pending share of the friction heat (45 mechanical steps per thermal step).
+      {src + "/cases/verification/tool_heat_rotating_die.json",
+       {"thermal.subcycling=true", "thermal.time_step_factor=0.001", "run.end_time=2 ms",
+        "run.history_interval=0.02 ms", "run.checkpoint_interval=0.7 ms"}},
       // The same scene with a Johnson-Cook disc whose conductivity grows with temperature and makes
       // conduction limit the time step (dt_thermal 0.338 us against dt_cfl 1.5 us): the first step
       // after the restart is sized by the properties of the last thermal pass (eq. 26), which only

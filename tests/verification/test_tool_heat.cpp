@@ -231,6 +231,51 @@ TEST(ToolHeat, ToolTakesItsShareOfTheFrictionHeat) {
   EXPECT_NEAR(column(row, "die_heat_to_tool_J"), (1.0 - kPhi) * friction_J, 1e-12 * friction_J);
 }
 
+/// Heat the sub-cycled thermal pass still holds for the die (J): its pending field (eq. 26b).
+double pending_die_heat(const Simulation& sim) {
+  const double* pending = sim.fields().f64("pending_tool_heat_die");
+  double q = 0.0;
+  for (std::size_t i = 0; i < sim.particle_count(); ++i) q += pending[i];
+  return q;
+}
+
+// 13.3a Sub-cycled thermal step (theory eq. 26b). The rotating die with its conducting die body, with
+// thermal.time_step_factor lowered so that the 2 ms run spans several thermal steps (dt_thermal 135
+// and 68 us against dt 1.5 us: 90 and 45 mechanical steps each).
+// - Ledger: disc + die body + the die's pending share = the friction heat, 1e-9 relative as in 13.2;
+//   dropping the pending field from the ledger fails it (the last thermal step is up to 90 steps old).
+// - Against the every-step run: the die body's heat, pending share included, differs only through
+//   the conduction across the contact, taken on the longer step and up to one thermal step late at
+//   the end. That conduction is 0.051 J of the die body's 13.72 J in the every-step run (0.37 %), so
+//   a bound of 1e-3 relative fails a pass that skipped or doubled it; measured 4.3e-7 and 1.8e-4
+//   (which of the two is larger depends on where the last thermal step falls, not on tau).
+TEST(ToolHeat, SubcycledThermalStepKeepsTheLedgerAndTheContactConduction) {
+  CaseRun every = build_case("tool_heat_rotating_die.json", {"thermal.time_step_factor=0.001"}, "sub_every");
+  run(every);
+  const double tool_every = heat_gained(*every.sim, body_index(*every.sim, "die_body"), kDieC, kT0);
+  for (const char* factor : {"0.002", "0.001"}) {
+    CaseRun r = build_case("tool_heat_rotating_die.json",
+                           {"thermal.subcycling=true", std::string("thermal.time_step_factor=") + factor},
+                           std::string("sub_") + factor);
+    run(r);
+    const Simulation& sim = *r.sim;
+    const auto row = last_history_row(r.out);
+    const double friction_J = column(row, "die_friction_heat_J");
+    ASSERT_GT(column(row, "dt_thermal_s"), 40.0 * column(row, "dt_s"));
+    const double disc = heat_gained(sim, body_index(sim, "disc"), kDiscC, kT0);
+    const double tool = heat_gained(sim, body_index(sim, "die_body"), kDieC, kT0);
+    const double pending = pending_die_heat(sim);
+    const double err = (disc + tool + pending) / friction_J - 1.0;
+    const double diff = (tool + pending) / tool_every - 1.0;
+    std::printf("subcycled, factor %s: disc %.9g + die body %.9g + pending %.9g = %.9g J, friction %.9g J (%+.2e); "
+                "die body + pending against the every-step run %.9g J: %+.3e\n",
+                factor, disc, tool, pending, disc + tool + pending, friction_J, err, tool_every, diff);
+    EXPECT_GT(pending, 0.0);
+    EXPECT_LT(std::abs(err), 1e-9);
+    EXPECT_LT(std::abs(diff), 1e-3);
+  }
+}
+
 /// Least-squares line through (z, T) of the centre-line particles of a series bar with z in [a, b],
 /// evaluated at z = at.
 double fit_line(const Simulation& sim, double a, double b, double at) {

@@ -70,6 +70,7 @@ json Simulation::checkpoint_state(double wall_time_s) const {
   core["dt_cfl_s"] = number(dt_cfl_);
   core["dt_contact_s"] = number(dt_contact_);
   core["dt_thermal_s"] = number(dt_thermal_);
+  core["thermal_pending_s"] = thermal_pending_s_;  // eq. 26b; its heat is in the pending fields
   core["internal_energy_J"] = internal_energy_;
   core["constraint_work_J"] = constraint_work_J_;
   core["body_force_work_J"] = body_force_work_J_;
@@ -185,6 +186,7 @@ void Simulation::restore(const fs::path& checkpoint) {
     dt_cfl_ = number(core.at("dt_cfl_s"));
     dt_contact_ = number(core.at("dt_contact_s"));
     dt_thermal_ = number(core.at("dt_thermal_s"));
+    thermal_pending_s_ = core.value("thermal_pending_s", 0.0);  // absent before eq. 26b: nothing pending
     internal_energy_ = core.at("internal_energy_J").get<double>();
     constraint_work_J_ = core.at("constraint_work_J").get<double>();
     body_force_work_J_ = core.at("body_force_work_J").get<double>();

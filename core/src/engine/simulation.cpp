@@ -189,6 +189,10 @@ const ParamSpecs& thermal_specs() {
                         "heat transfer coefficient on free surfaces; processes may set it per surface region", 0.0),
       ParamSpec::number("time_step_factor", "1", 0.1,
                         "dt <= factor rho c h^2 / k (theory eq. 26)", 1e-3, 1.0),
+      ParamSpec::boolean("subcycling", false,
+                         "conduction, convection and the tools' share of the friction heat on a step of their "
+                         "own, as long as eq. 26 allows, while the heat sources act every step (theory eq. 26b); "
+                         "false: every step conducts"),
   };
   return specs;
 }
@@ -463,6 +467,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     settings_.thermal.ambient_temperature_K = thermal.number("ambient_temperature");
     settings_.thermal.convection_coefficient = thermal.number("convection_coefficient");
     settings_.thermal.time_step_factor = thermal.number("time_step_factor");
+    settings_.thermal.subcycling = thermal.boolean("subcycling");
   }
 
   // Bodies: resolve their materials; mechanical bodies first in the arrays (the mechanics passes
@@ -631,7 +636,17 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   if (settings_.thermal.enabled) {
     std::vector<FieldInfo> reads = {position, mass, density, temperature};
     if (any_mechanics) reads.push_back(heat_source);
-    passes_.push_back({"heat_conduction", reads, {temperature_rate}});
+    std::vector<FieldInfo> writes = {temperature_rate};
+    // Sub-cycled (eq. 26b): each contact particle keeps the tools' share of its friction heat until
+    // the next thermal step, a field per tool with an attached body, so that it survives reordering.
+    if (settings_.thermal.subcycling && any_mechanics)
+      for (std::size_t t = 0; t < tools_.size(); ++t)
+        if (std::find(body_tool.begin(), body_tool.end(), static_cast<long long>(t)) != body_tool.end()) {
+          pending_tool_heat_field_.resize(tools_.size());
+          pending_tool_heat_field_[t] = "pending_tool_heat_" + tools_[t].name();
+          writes.push_back(FieldInfo{pending_tool_heat_field_[t], 1, "J"});
+        }
+    passes_.push_back({"heat_conduction", reads, writes});
     passes_.push_back({"convection", {position, mass, density, temperature}, {convection_coefficient}});
     passes_.push_back({"integrate_temperature", {temperature_rate}, {temperature}});
   }
@@ -1172,7 +1187,7 @@ void Simulation::mechanics_rates() {
   }
 }
 
-void Simulation::thermal_rates() {
+void Simulation::thermal_heat_flows(const std::vector<ToolHeatRecord>& tool_heat) {
   const std::size_t n = count_;
   const double* x = fields_.f64(field::position);
   const double* m = fields_.f64(field::mass);
@@ -1180,7 +1195,6 @@ void Simulation::thermal_rates() {
   const double* T = fields_.f64(field::temperature);
   const double* hc = fields_.f64(field::convection_coefficient);
   const double* heat_source = fields_.f64_if(field::heat_source);
-  double* dT = fields_.f64(field::temperature_rate);
   // Neighbours of every particle: the mechanics lists serve when all particles are mechanical
   // (they were just updated); thermal-only bodies need lists of their own.
   const NeighbourList* nl = &neighbours_;
@@ -1224,7 +1238,7 @@ void Simulation::thermal_rates() {
   // over the thermal lists (every particle's neighbours, just refreshed above); heat meant for a
   // ghost goes to its source, the particle whose image it is.
   if (any_attached_ && heat_source)
-    deposit_tool_heat(contact_.tool_heat(), *nl, settings_.kernel, h_, xe, m, settings_.mass_scaling,
+    deposit_tool_heat(tool_heat, *nl, settings_.kernel, h_, xe, m, settings_.mass_scaling,
                       fields_.i64(field::body), bodies_, fields_.f64(field::heat_source), n,
                       sym ? ghosts.sources().data() : nullptr);
   std::fill(heat_W_.begin(), heat_W_.end(), 0.0);
@@ -1233,15 +1247,71 @@ void Simulation::thermal_rates() {
     surface_area(*nl, settings_.kernel, h_, xe, volume, area_.data(), n);  // eq. 22
     convection(hc, area_.data(), T, settings_.thermal.ambient_temperature_K, heat_W_.data(), n);  // eq. 23
   }
+}
+
+void Simulation::thermal_rates() {
+  if (settings_.thermal.subcycling) {
+    thermal_rates_subcycled();
+    return;
+  }
+  thermal_heat_flows(contact_.tool_heat());
+  const double* m = fields_.f64(field::mass);
+  const double* heat_source = fields_.f64_if(field::heat_source);
+  double* dT = fields_.f64(field::temperature_rate);
   // m c dT/dt = f (Q_conduction + Q_convection) + m q_plastic with physical masses; time scaling f
   // speeds up the heat flow to keep pace with the f-times faster deformation (eq. 25).
   const double f = settings_.time_scaling, inv_s = 1.0 / settings_.mass_scaling;
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < count_; ++i) {
     const double physical_mass = m[i] * inv_s;
     const double source = heat_source ? physical_mass * heat_source[i] : 0.0;
     dT[i] = (f * heat_W_[i] + source) / (physical_mass * specific_heat_[i]);
   }
+}
+
+void Simulation::thermal_rates_subcycled() {
+  // Eq. 26b. The heat sources of the workpiece (plastic work, its share of the friction heat) act
+  // every step through dT, at the properties of the current temperatures, so that softening follows
+  // the heating without delay. The tools' share of the friction heat waits, per contact particle,
+  // in the pending fields. Conduction, convection and that share act together on a thermal step of
+  // length tau, the time since the last one, taken before the next mechanical step would carry tau
+  // past the conduction limit dt_thermal (eq. 26): explicit conduction with tau <= dt_thermal is as
+  // stable as with dt. Energy is conserved: every source term enters once, with its own duration.
+  const std::size_t n = count_, nm = mechanical_count_;
+  const double* m = fields_.f64(field::mass);
+  const double* heat_source = fields_.f64_if(field::heat_source);
+  double* dT = fields_.f64(field::temperature_rate);
+  double* T = fields_.f64(field::temperature);
+  const double f = settings_.time_scaling, inv_s = 1.0 / settings_.mass_scaling;
+  for (const ToolHeatRecord& r : contact_.tool_heat())
+    fields_.f64(pending_tool_heat_field_[r.tool])[r.particle] += r.heat_W * dt_;
+  thermal_pending_s_ += dt_;
+  if (thermal_pending_s_ + dt_ > dt_thermal_) {
+    const double tau = thermal_pending_s_;
+    // The pending heat as records of mean power over tau, for the deposit of eq. 91.
+    pending_tool_heat_.clear();
+    for (std::size_t t = 0; t < pending_tool_heat_field_.size(); ++t) {
+      if (pending_tool_heat_field_[t].empty()) continue;
+      double* pending = fields_.f64(pending_tool_heat_field_[t]);
+      for (std::size_t i = 0; i < nm; ++i)
+        if (pending[i] != 0.0) {
+          pending_tool_heat_.push_back({t, i, pending[i] / tau});
+          pending[i] = 0.0;
+        }
+    }
+    thermal_heat_flows(pending_tool_heat_);
+    // Workpiece sources are in dT below; the attached bodies' source is the deposit just made.
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const double physical_mass = m[i] * inv_s;
+      const double source = heat_source && i >= nm ? physical_mass * heat_source[i] : 0.0;
+      T[i] += tau * (f * heat_W_[i] + source) / (physical_mass * specific_heat_[i]);
+    }
+    thermal_pending_s_ = 0.0;
+  }
+  evaluate_thermal_properties();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) dT[i] = heat_source && i < nm ? heat_source[i] / specific_heat_[i] : 0.0;
 }
 
 double* Simulation::extend(std::vector<double>& ext, const double* src, int components, bool position,

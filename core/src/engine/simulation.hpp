@@ -48,6 +48,9 @@ struct CoreSettings {
     double initial_temperature_K = 293.15, ambient_temperature_K = 293.15;
     double convection_coefficient = 0.0;  ///< W/(m^2 K) on free surfaces unless the process sets it
     double time_step_factor = 0.1;        ///< eq. 26
+    /// Conduction, convection and the tools' heat on a step of their own, up to the limit of eq. 26
+    /// (eq. 26b); the heat sources still act every mechanical step. Off: every step is a thermal step.
+    bool subcycling = false;
   } thermal;
   double end_time_s = 0.0;
   double output_interval_s = 0.0;
@@ -134,6 +137,12 @@ class Simulation {
   void build_mechanical_lists(const double* x, std::size_t n, std::size_t per_particle, bool transient);
   void output_velocity_gradient(std::vector<double>& density_rate, std::vector<double>& condition);
   void thermal_rates();
+  /// Lists, ghosts, volumes and properties of the thermal pass, the tools' heat of `tool_heat`
+  /// deposited into their attached bodies (eq. 91, into heat_source), and the conduction and
+  /// convection heat flows into heat_W_ (eqs. 20-23).
+  void thermal_heat_flows(const std::vector<ToolHeatRecord>& tool_heat);
+  /// thermal_rates() with thermal.subcycling (eq. 26b).
+  void thermal_rates_subcycled();
   void integrate();
   void evaluate_thermal_properties();
   void prepare_run();
@@ -210,6 +219,11 @@ class Simulation {
   std::vector<unsigned char> tool_takes_heat_;
   std::vector<double> tool_friction_heat_J_, tool_heat_to_tool_J_;
   bool thermal_lists_stale_ = false;  ///< a reorder permuted the particles behind the thermal lists
+  /// thermal.subcycling (eq. 26b): time since the last thermal step (s, scaled), and per tool that
+  /// takes heat the name of the field holding each contact particle's pending share (J) of it.
+  double thermal_pending_s_ = 0.0;
+  std::vector<std::string> pending_tool_heat_field_;
+  std::vector<ToolHeatRecord> pending_tool_heat_;
   double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
   double domain_margin_used_m_ = 0.0;
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
