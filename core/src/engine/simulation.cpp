@@ -1286,7 +1286,8 @@ void Simulation::thermal_rates_subcycled() {
   for (const ToolHeatRecord& r : contact_.tool_heat())
     fields_.f64(pending_tool_heat_field_[r.tool])[r.particle] += r.heat_W * dt_;
   thermal_pending_s_ += dt_;
-  if (thermal_pending_s_ + dt_ > dt_thermal_) {
+  // No conducting particle (dt_thermal infinite): the tools' heat still goes in, every step.
+  if (thermal_pending_s_ + dt_ > dt_thermal_ || !std::isfinite(dt_thermal_)) {
     const double tau = thermal_pending_s_;
     // The pending heat as records of mean power over tau, for the deposit of eq. 91.
     pending_tool_heat_.clear();
