@@ -1283,17 +1283,19 @@ void Simulation::thermal_rates_subcycled() {
   double* dT = fields_.f64(field::temperature_rate);
   double* T = fields_.f64(field::temperature);
   const double f = settings_.time_scaling, inv_s = 1.0 / settings_.mass_scaling;
-  for (const ToolHeatRecord& r : contact_.tool_heat())
-    fields_.f64(pending_tool_heat_field_[r.tool])[r.particle] += r.heat_W * dt_;
+  pending_fields_.assign(pending_tool_heat_field_.size(), nullptr);  // looked up once per step, not per contact
+  for (std::size_t t = 0; t < pending_tool_heat_field_.size(); ++t)
+    if (!pending_tool_heat_field_[t].empty()) pending_fields_[t] = fields_.f64(pending_tool_heat_field_[t]);
+  for (const ToolHeatRecord& r : contact_.tool_heat()) pending_fields_[r.tool][r.particle] += r.heat_W * dt_;
   thermal_pending_s_ += dt_;
   // No conducting particle (dt_thermal infinite): the tools' heat still goes in, every step.
   if (thermal_pending_s_ + dt_ > dt_thermal_ || !std::isfinite(dt_thermal_)) {
     const double tau = thermal_pending_s_;
     // The pending heat as records of mean power over tau, for the deposit of eq. 91.
     pending_tool_heat_.clear();
-    for (std::size_t t = 0; t < pending_tool_heat_field_.size(); ++t) {
-      if (pending_tool_heat_field_[t].empty()) continue;
-      double* pending = fields_.f64(pending_tool_heat_field_[t]);
+    for (std::size_t t = 0; t < pending_fields_.size(); ++t) {
+      double* pending = pending_fields_[t];
+      if (!pending) continue;
       for (std::size_t i = 0; i < nm; ++i)
         if (pending[i] != 0.0) {
           pending_tool_heat_.push_back({t, i, pending[i] / tau});

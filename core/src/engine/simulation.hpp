@@ -224,6 +224,7 @@ class Simulation {
   double thermal_pending_s_ = 0.0;
   std::vector<std::string> pending_tool_heat_field_;
   std::vector<ToolHeatRecord> pending_tool_heat_;
+  std::vector<double*> pending_fields_;  ///< this step's arrays of pending_tool_heat_field_ (null: none)
   double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
   double domain_margin_used_m_ = 0.0;
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
