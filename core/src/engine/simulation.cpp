@@ -639,13 +639,14 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     std::vector<FieldInfo> writes = {temperature_rate};
     // Sub-cycled (eq. 26b): each contact particle keeps the tools' share of its friction heat until
     // the next thermal step, a field per tool with an attached body, so that it survives reordering.
-    if (settings_.thermal.subcycling && any_mechanics)
+    if (settings_.thermal.subcycling && any_mechanics) {
+      pending_tool_heat_field_.assign(tools_.size(), std::string());  // empty: the tool has no body
       for (std::size_t t = 0; t < tools_.size(); ++t)
         if (std::find(body_tool.begin(), body_tool.end(), static_cast<long long>(t)) != body_tool.end()) {
-          pending_tool_heat_field_.resize(tools_.size());
           pending_tool_heat_field_[t] = "pending_tool_heat_" + tools_[t].name();
           writes.push_back(FieldInfo{pending_tool_heat_field_[t], 1, "J"});
         }
+    }
     passes_.push_back({"heat_conduction", reads, writes});
     passes_.push_back({"convection", {position, mass, density, temperature}, {convection_coefficient}});
     passes_.push_back({"integrate_temperature", {temperature_rate}, {temperature}});
