@@ -156,6 +156,17 @@ int check_case(const Options& o) {
   if (sim.symmetry().active())
     std::cout << "symmetry: the particles of 1/" << sim.symmetry().multiplier()
               << " of the scene are simulated, images across the cuts are ghosts (docs/theory.md section 11)\n";
+  // Which thermal stepping the case runs: the two differ in cost and in when temperatures are current.
+  if (sim.settings().thermal.enabled) {
+    const auto& thermal = sim.settings().thermal;
+    if (thermal.subcycling)
+      std::cout << "thermal step: sub-cycled (docs/theory.md eq. 26b): conduction, convection and the tools' heat "
+                   "once per dt_thermal = "
+                << thermal.time_step_factor << " h^2 min(rho c / k) / f, the heat sources every step\n";
+    else
+      std::cout << "thermal step: every step, which is at most dt_thermal = " << thermal.time_step_factor
+                << " h^2 min(rho c / k) / f (docs/theory.md eq. 26)\n";
+  }
   std::cout << "passes:\n";
   for (const auto& pass : sim.passes()) std::cout << "  " << pass.name << "\n";
   std::cout << "fields allocated:";

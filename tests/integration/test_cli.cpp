@@ -908,6 +908,22 @@ TEST_F(Cli, CheckClipsTheSceneToTheSymmetryRegionAndRejectsBadSymmetry) {
   EXPECT_TRUE(contains(empty.err, "has no particle inside the symmetry region")) << empty.err;
 }
 
+TEST_F(Cli, CheckStatesTheThermalStepping) {
+  // The friction-extrusion quick case runs the sub-cycled thermal step (docs/theory.md eq. 26b) at time
+  // step factor 0.05; switched off, check reports the every-step pass and its factor.
+  const std::string fe = std::string(SPHFORGE_SOURCE_DIR) + "/cases/friction_extrusion/aa7075_pid_300kN_quick.json";
+  const Result sub = run({"check", fe});
+  ASSERT_EQ(sub.code, 0) << describe(sub);
+  EXPECT_TRUE(contains(sub.out, "thermal step: sub-cycled (docs/theory.md eq. 26b)")) << sub.out;
+  EXPECT_TRUE(contains(sub.out, "once per dt_thermal = 0.05 h^2")) << sub.out;
+  const Result every =
+      run({"check", fe, "--set", "thermal.subcycling=false", "--set", "thermal.time_step_factor=0.1"});
+  ASSERT_EQ(every.code, 0) << describe(every);
+  EXPECT_TRUE(contains(every.out, "thermal step: every step, which is at most dt_thermal = 0.1 h^2")) << every.out;
+  EXPECT_FALSE(contains(every.out, "sub-cycled")) << every.out;
+  EXPECT_TRUE(fs::is_empty(work())) << "check must not write anything";
+}
+
 TEST_F(Cli, CheckListsPassesAndFieldsWithoutWriting) {
   const Result r = run({"check", kQuickCase});
   ASSERT_EQ(r.code, 0) << describe(r);
@@ -922,6 +938,7 @@ TEST_F(Cli, CheckListsPassesAndFieldsWithoutWriting) {
   for (const char* f : {" position ", " velocity ", " pressure ", " deviatoric_stress ", " density ", " plastic_strain "})
     EXPECT_TRUE(contains(fields_line, f)) << f << " not in " << fields_line;
   EXPECT_FALSE(contains(r.out, "temperature")) << r.out;
+  EXPECT_FALSE(contains(r.out, "thermal step")) << "an isothermal case has no thermal step\n" << r.out;
   EXPECT_TRUE(fs::is_empty(work())) << "check must not write anything";
 
   // With overrides, the scene it reports is the overridden one: 4 layers x 448 columns.
