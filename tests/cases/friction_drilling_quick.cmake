@@ -37,12 +37,12 @@ endfunction()
 # (round-off) and +2.3e-8 m (one step and round-off).
 expect_between("final drill depth (m)" ${depth} 4.16666e-4 4.16690e-4)
 # Stored values (1 thread, gcc, the run in cases/friction_drilling/README.md, with the case's sub-cycled
-# thermal step, 2026-12-05): max axial force 681.18 N, max torque 0.10941 N*m, max sheet temperature
-# 680.99 K, max probe temperature 301.96 K. The
+# thermal step and the sheet beyond the disc (theory eq. 121b), 2026-12-05): max axial force 681.37 N, max
+# torque 0.10945 N*m, max sheet temperature 681.02 K, max probe temperature 300.75 K. The
 # tolerance, 10 %, is a regression band, not an accuracy claim: the quantities are peak values of a
 # contact-driven plastic run sampled every step, whose summation order changes with the thread count.
-expect_between("max axial force (N)" ${force} 613.1 749.3)
+expect_between("max axial force (N)" ${force} 613.2 749.5)
 expect_between("max torque (N*m)" ${torque} 0.0985 0.1204)
-# Temperatures: the 10 % band applies to the rise above the initial 293.15 K (387.84 K and 8.81 K).
+# Temperatures: the 10 % band applies to the rise above the initial 293.15 K (387.87 K and 7.60 K).
 expect_between("max sheet temperature (K)" ${tmax} 642.2 719.8)
-expect_between("max probe temperature (K)" ${probe} 301.08 302.84)
+expect_between("max probe temperature (K)" ${probe} 299.99 301.51)

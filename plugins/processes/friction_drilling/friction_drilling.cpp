@@ -13,9 +13,11 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "sheet_connectivity.hpp"
+#include "sheet_far_field.hpp"
 #include "sphforge/plugin.hpp"
 
 namespace {
@@ -25,6 +27,9 @@ using Vec = Eigen::Vector3d;
 
 /// Name of the per-particle clamp flag (1: part of the fixed rim, eq. 121).
 constexpr const char* kClampedField = "clamped";
+/// Name of the per-particle flag of the disc's outer ring, which exchanges heat with the sheet
+/// beyond the disc (eq. 121b; declared only when that far field is on).
+constexpr const char* kRingField = "far_field_ring";
 
 /// The default drill (eq. 120): a typical M4 flow drill simplified to a body of revolution, in mm,
 /// tip at z = 0, walked from the top of the modelled shank down to the tip (workpiece on the left,
@@ -42,6 +47,19 @@ class FrictionDrilling final : public Process {
     spacing_ = p.number("particle_spacing");
     clamp_width_ = p.number("clamp_width");
     clamp_temperature_ = p.number("clamp_temperature");
+    far_radius_ = p.number("sheet_far_field_radius");
+    far_conductivity_ = p.number("sheet_conductivity");
+    far_heat_capacity_ = p.number("sheet_heat_capacity");
+    if (far_radius_ > 0.0) {
+      if (far_radius_ <= radius_) p.fail("sheet_far_field_radius", "must exceed the disc radius (0: no far field)");
+      if (far_conductivity_ <= 0.0)
+        p.fail("sheet_conductivity", "the sheet's conductivity is needed with sheet_far_field_radius (the far field is "
+               "not made of particles and does not see the material)");
+      if (far_heat_capacity_ <= 0.0)
+        p.fail("sheet_heat_capacity", "the sheet's rho c is needed with sheet_far_field_radius");
+      if (clamp_temperature_ > 0.0)
+        p.fail("sheet_far_field_radius", "choose one heat path at the rim: clamp_temperature or the far field");
+    }
     feed_ = p.number("feed_rate");
     speed_ = p.number("rotation_speed");
     stroke_ = p.number("stroke");
@@ -84,7 +102,9 @@ class FrictionDrilling final : public Process {
   }
 
   std::vector<FieldInfo> fields() const override {
-    return {FieldInfo{kClampedField, 1, "1", FieldType::Int64, true}};
+    std::vector<FieldInfo> f = {FieldInfo{kClampedField, 1, "1", FieldType::Int64, true}};
+    if (far_radius_ > 0.0) f.push_back(FieldInfo{kRingField, 1, "1", FieldType::Int64, false});
+    return f;
   }
 
   void build(SceneBuilder& scene) override {
@@ -152,6 +172,23 @@ class FrictionDrilling final : public Process {
     // Fixed rim (eq. 121): every sheet particle within clamp_width of the sheet's edge.
     for (std::size_t i = 0; i < f.size(); ++i)
       clamped[i] = i < ctx.mechanical_count && std::hypot(x[3 * i], x[3 * i + 1]) >= radius_ - clamp_width_ ? 1 : 0;
+    // The sheet beyond the disc (eq. 121b): the outer ring of lattice sites (centres within 1.5 dx of
+    // the edge; the lattice is clipped at R - dx/2) exchanges heat with it.
+    if (far_radius_ > 0.0 && f.f64_if(field::temperature)) {
+      std::int64_t* ring = f.i64(kRingField);
+      const double* T = f.f64(field::temperature);
+      double radius_sum = 0.0, T_sum = 0.0;
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        const double r = std::hypot(x[3 * i], x[3 * i + 1]);
+        ring[i] = i < ctx.mechanical_count && r > radius_ - 1.5 * spacing_ ? 1 : 0;
+        if (ring[i]) radius_sum += r, T_sum += T[i], ++count;
+      }
+      if (count == 0) throw std::invalid_argument("friction_drilling: no particle on the disc's rim for the far field");
+      ring_heat_capacity_ = far_heat_capacity_ * static_cast<double>(count) * spacing_ * spacing_ * spacing_;
+      far_field_.emplace(radius_sum / count, radius_, far_radius_, thickness_eff(), 2.0 * std::numbers::pi / sectors_,
+                         far_conductivity_, far_heat_capacity_, T_sum / count, spacing_);
+    }
     // Thermocouple (eq. 126): the upper-surface sheet particle nearest (probe_radius, 0, top).
     if (f.f64_if(field::temperature)) {
       const Vec target(probe_radius_, 0.0, top_);
@@ -198,6 +235,26 @@ class FrictionDrilling final : public Process {
       const double* T = f.f64(field::temperature);
       for (std::size_t i = 0; i < n; ++i)
         if (clamped[i]) dT[i] = (clamp_temperature_ - T[i]) / ctx.dt_s;
+    }
+    // The sheet beyond the disc (eq. 121b): over the step's process time f dt the far field takes
+    // the heat P from the ring at its mean temperature, and the ring loses it evenly (its
+    // temperature falls by P f dt / C_ring).
+    double* dT_ring = far_field_ ? f.f64_if(field::temperature_rate) : nullptr;
+    if (dT_ring && ctx.dt_s > 0.0) {
+      const double* T = f.f64(field::temperature);
+      const std::int64_t* ring = f.i64(kRingField);
+      double T_sum = 0.0, count = 0.0;
+#pragma omp parallel for reduction(+ : T_sum, count) schedule(static)
+      for (std::size_t i = 0; i < n; ++i)
+        if (ring[i]) T_sum += T[i], count += 1.0;
+      const double process_dt = ctx.time_scaling * ctx.dt_s;
+      const double P = far_field_->advance(T_sum / count, process_dt);
+      const double rate = ctx.time_scaling * P / ring_heat_capacity_;
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < n; ++i)
+        if (ring[i]) dT_ring[i] -= rate;
+      far_field_heat_ = sectors_ * P;
+      far_field_energy_ = sectors_ * far_field_->absorbed_J();
     }
   }
 
@@ -278,7 +335,10 @@ class FrictionDrilling final : public Process {
             {"max_force", {max_force_, max_force_time_, max_force_depth_}},
             {"max_torque", max_torque_},
             {"max_probe", {max_probe_, max_probe_time_}},
-            {"max_temperature", max_temperature_}};
+            {"max_temperature", max_temperature_},
+            {"far_field", far_field_ ? nlohmann::json{{"temperatures", far_field_->temperatures()},
+                                                      {"absorbed_J", far_field_->absorbed_J()}}
+                                     : nlohmann::json()}};
   }
   void restore_state(const nlohmann::json& s) override {
     auto at = [](const nlohmann::json& a, std::size_t k) { return a.at(k).get<double>(); };
@@ -291,10 +351,16 @@ class FrictionDrilling final : public Process {
     const nlohmann::json& q = s.at("max_probe");
     max_probe_ = at(q, 0), max_probe_time_ = at(q, 1);
     max_temperature_ = s.at("max_temperature").get<double>();
+    if (far_field_) {
+      const nlohmann::json& ff = s.at("far_field");
+      far_field_->set_temperatures(ff.at("temperatures").get<std::vector<double>>());
+      far_field_->set_absorbed_J(ff.at("absorbed_J").get<double>());
+      far_field_energy_ = sectors_ * far_field_->absorbed_J();
+    }
   }
 
   std::vector<HistoryColumn> history_columns() const override {
-    return {{"process_time_s", &process_time_},
+    std::vector<HistoryColumn> columns = {{"process_time_s", &process_time_},
             {"drill_tip_z_m", &tip_z_},
             {"drill_depth_m", &depth_},
             {"drill_feed_rate_m_s", &feed_out_},
@@ -309,6 +375,11 @@ class FrictionDrilling final : public Process {
             {"bushing_detached_particles_1", &detached_},
             {"failed_particles_1", &failed_},
             {"plastic_strain_max_1", &plastic_strain_max_}};
+    if (far_radius_ > 0.0) {
+      columns.push_back({"far_field_heat_W", &far_field_heat_});
+      columns.push_back({"far_field_energy_J", &far_field_energy_});
+    }
+    return columns;
   }
 
   nlohmann::json metrics() const override {
@@ -335,6 +406,7 @@ class FrictionDrilling final : public Process {
     m["sector_count"] = sectors_;
     m["failed_particles"] = failed_;
     m["plastic_strain_max"] = plastic_strain_max_;
+    if (far_radius_ > 0.0) m["far_field_energy_J"] = far_field_energy_;
     return m;
   }
 
@@ -372,6 +444,7 @@ class FrictionDrilling final : public Process {
   // Parameters.
   double radius_ = 0.0, thickness_ = 0.0, spacing_ = 0.0, clamp_width_ = 0.0, stroke_ = 0.0, gap_ = 0.0;
   double clamp_temperature_ = -1.0;
+  double far_radius_ = 0.0, far_conductivity_ = 0.0, far_heat_capacity_ = 0.0;
   double drill_body_length_ = 0.0, probe_radius_ = 0.0, band_inner_ = 0.0, band_outer_ = 0.0;
   double drill_radius_ = 0.0;
   bool drill_body_ = true;
@@ -393,6 +466,9 @@ class FrictionDrilling final : public Process {
   double axial_force_ = 0.0, torque_ = 0.0, probe_temperature_ = 0.0, temperature_max_ = 0.0;
   double upper_ = 0.0, lower_ = 0.0, total_ = 0.0, failed_ = 0.0, plastic_strain_max_ = 0.0;
   double detached_ = 0.0;
+  // The sheet beyond the disc (eq. 121b): heat flow into it (W, whole disc) and its total (J).
+  std::optional<friction_drilling::SheetFarField> far_field_;
+  double ring_heat_capacity_ = 0.0, far_field_heat_ = 0.0, far_field_energy_ = 0.0;
   // Bushing evaluation: next simulated time, connectivity and band scratch (storage kept between calls).
   double next_bushing_ = 0.0;
   friction_drilling::SheetConnectivity connectivity_;
@@ -414,6 +490,13 @@ const PluginDescriptor& descriptor() {
           ParamSpec::number("clamp_temperature", "K", -1.0,
                             "temperature the clamped rim is held at (a heat sink, eq. 121a); -1: the rim is "
                             "clamped mechanically only and conducts like the rest of the sheet"),
+          ParamSpec::number("sheet_far_field_radius", "m", 0.0,
+                            "outer radius of the sheet beyond the disc that takes heat from the disc's rim (eq. 121b): "
+                            "a thin annulus, radial conduction only, faces adiabatic; 0: none (the rim is adiabatic)", 0.0),
+          ParamSpec::number("sheet_conductivity", "W/(m*K)", 0.0,
+                            "conductivity k of the far field (eq. 121b): the sheet material's", 0.0),
+          ParamSpec::number("sheet_heat_capacity", "J/(m^3*K)", 0.0,
+                            "volumetric heat capacity rho c of the far field (eq. 121b): the sheet material's", 0.0),
           ParamSpec::number("feed_rate", "m/s", 50e-3 / 60.0,
                             "initial value of the command drill_feed_rate (downwards, physical; x time_scaling)", 0.0),
           ParamSpec::number("rotation_speed", "rad/s", 5800.0 * 2.0 * std::numbers::pi / 60.0,
@@ -427,7 +510,9 @@ const PluginDescriptor& descriptor() {
           ParamSpec::boolean("drill_body", true,
                              "true: the drill carries thermal-only particles (conduction, its friction-heat share)"),
           ParamSpec::string("drill_material", std::string("drill"), "key in the case's \"materials\" of the drill body"),
-          ParamSpec::number("drill_body_length", "m", 6e-3, "length of the drill (from the tip) filled with thermal particles", 0.0),
+          ParamSpec::number("drill_body_length", "m", 6e-3,
+                            "length of the drill (from the tip) filled with thermal particles, at most the "
+                            "profile's height (default profile: 9 mm)", 0.0),
           ParamSpec::number("probe_radius", "m", 4e-3, "thermocouple: distance from the axis on the upper surface (eq. 126)", 0.0),
           ParamSpec::number("bushing_inner_radius", "m", 0.0,
                             "inner radius of the band in which the bushing is measured (0: the drill's largest radius)", 0.0),
