@@ -185,7 +185,8 @@ class FrictionDrilling final : public Process {
         if (ring[i]) radius_sum += r, T_sum += T[i], ++count;
       }
       if (count == 0) throw std::invalid_argument("friction_drilling: no particle on the disc's rim for the far field");
-      ring_heat_capacity_ = far_heat_capacity_ * static_cast<double>(count) * spacing_ * spacing_ * spacing_;
+      ring_count_ = static_cast<double>(count);
+      ring_heat_capacity_ = far_heat_capacity_ * ring_count_ * spacing_ * spacing_ * spacing_;
       far_field_.emplace(radius_sum / count, radius_, far_radius_, thickness_eff(), 2.0 * std::numbers::pi / sectors_,
                          far_conductivity_, far_heat_capacity_, T_sum / count, spacing_);
     }
@@ -243,12 +244,12 @@ class FrictionDrilling final : public Process {
     if (dT_ring && ctx.dt_s > 0.0) {
       const double* T = f.f64(field::temperature);
       const std::int64_t* ring = f.i64(kRingField);
-      double T_sum = 0.0, count = 0.0;
-#pragma omp parallel for reduction(+ : T_sum, count) schedule(static)
+      double T_sum = 0.0;
+#pragma omp parallel for reduction(+ : T_sum) schedule(static)
       for (std::size_t i = 0; i < n; ++i)
-        if (ring[i]) T_sum += T[i], count += 1.0;
+        if (ring[i]) T_sum += T[i];
       const double process_dt = ctx.time_scaling * ctx.dt_s;
-      const double P = far_field_->advance(T_sum / count, process_dt);
+      const double P = far_field_->advance(T_sum / ring_count_, process_dt);
       const double rate = ctx.time_scaling * P / ring_heat_capacity_;
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < n; ++i)
@@ -468,7 +469,8 @@ class FrictionDrilling final : public Process {
   double detached_ = 0.0;
   // The sheet beyond the disc (eq. 121b): heat flow into it (W, whole disc) and its total (J).
   std::optional<friction_drilling::SheetFarField> far_field_;
-  double ring_heat_capacity_ = 0.0, far_field_heat_ = 0.0, far_field_energy_ = 0.0;
+  // The ring's particle count is fixed at initialize(): the flag moves with its particles, none is deleted.
+  double ring_count_ = 0.0, ring_heat_capacity_ = 0.0, far_field_heat_ = 0.0, far_field_energy_ = 0.0;
   // Bushing evaluation: next simulated time, connectivity and band scratch (storage kept between calls).
   double next_bushing_ = 0.0;
   friction_drilling::SheetConnectivity connectivity_;

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -26,8 +27,8 @@ class SheetFarField {
           rho_c > 0.0 && dr > 0.0))
       throw std::invalid_argument("SheetFarField: need 0 < ring radius < R < far radius and positive t, angle, k, rho c, dr");
     const int cells = std::max(1, static_cast<int>(std::ceil((far_radius - R) / dr - 1e-9)));
-    edges_.resize(cells + 1);
-    for (int j = 0; j <= cells; ++j) edges_[j] = std::min(far_radius, R + j * dr);
+    std::vector<double> edges(cells + 1);
+    for (int j = 0; j <= cells; ++j) edges[j] = std::min(far_radius, R + j * dr);
     T_.assign(cells, T0);
     capacity_.resize(cells);
     conductance_.resize(cells);  // conductance_[j]: between cell j and the one inside it (j = 0: the ring)
@@ -35,14 +36,14 @@ class SheetFarField {
     // A thin annulus of conductivity k, thickness t and angle a passes Q = k t a (T_in - T_out) / ln(r_out / r_in)
     // between two radii (steady radial conduction): exact for the link between two cell centres.
     for (int j = 0; j < cells; ++j) {
-      const double centre = 0.5 * (edges_[j] + edges_[j + 1]);
-      capacity_[j] = rho_c * thickness * 0.5 * angle * (edges_[j + 1] * edges_[j + 1] - edges_[j] * edges_[j]);
+      const double centre = 0.5 * (edges[j] + edges[j + 1]);
+      capacity_[j] = rho_c * thickness * 0.5 * angle * (edges[j + 1] * edges[j + 1] - edges[j] * edges[j]);
       conductance_[j] = k * thickness * angle / std::log(centre / inner_centre);
       inner_centre = centre;
     }
     // Explicit stability: each cell's capacity over its two conductances (the forward-Euler bound
     // C / sum G keeps every update a convex combination), with a margin of 2.
-    stable_dt_ = INFINITY;
+    stable_dt_ = std::numeric_limits<double>::infinity();
     for (int j = 0; j < cells; ++j) {
       const double g = conductance_[j] + (j + 1 < cells ? conductance_[j + 1] : 0.0);
       stable_dt_ = std::min(stable_dt_, 0.5 * capacity_[j] / g);
@@ -87,7 +88,7 @@ class SheetFarField {
   double stable_dt() const { return stable_dt_; }
 
  private:
-  std::vector<double> edges_, T_, capacity_, conductance_, flux_;
+  std::vector<double> T_, capacity_, conductance_, flux_;
   double stable_dt_ = 0.0, absorbed_J_ = 0.0;
 };
 
