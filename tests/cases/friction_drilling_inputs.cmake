@@ -32,12 +32,13 @@ expect_check(0 "is valid" "${CASES}/hx220_m4_quick.json" --set "process.bushing_
 # A drill profile that is not a list of [r, z] pairs.
 expect_check(2 "hx220_m4_quick.json at /process/drill_profile"
              "${CASES}/hx220_m4_quick.json" --set "process.drill_profile=[1, 2]")
-# The sheet beyond the disc (eq. 121b): it must reach past the disc, needs the sheet's k and rho c,
-# and excludes a rim held at a temperature (one heat path at the rim).
+# The sheet beyond the disc (eq. 121b): it must reach past the disc and excludes a rim held at a
+# temperature (one heat path at the rim). Its k and rho c are the sheet material's, not process
+# parameters (friction_drilling_far_field_material.cmake).
 expect_check(2 "hx220_m4_quick.json at /process/sheet_far_field_radius: must exceed the disc radius"
              "${CASES}/hx220_m4_quick.json" --set "process.sheet_far_field_radius=4 mm")
 expect_check(2 "hx220_m4_quick.json at /process/sheet_conductivity"
-             "${CASES}/hx220_m4_quick.json" --set "process.sheet_conductivity=0 W/(m*K)")
+             "${CASES}/hx220_m4_quick.json" --set "process.sheet_conductivity=50 W/(m*K)")
 expect_check(2 "hx220_m4_quick.json at /process/sheet_far_field_radius: choose one heat path"
              "${CASES}/hx220_m4_quick.json" --set "process.clamp_temperature=293.15 K")
 expect_check(0 "is valid" "${CASES}/hx220_m4_quick.json" --set "process.clamp_temperature=293.15 K"

@@ -11,6 +11,7 @@
 
 #include "sphforge/controller.hpp"
 #include "sphforge/fields.hpp"
+#include "sphforge/material.hpp"
 #include "sphforge/signals.hpp"
 #include "sphforge/tool.hpp"
 
@@ -92,6 +93,11 @@ struct ProcessContext {
   std::size_t mechanical_count = 0;
   /// numerics.time_scaling: processes multiply their tool speeds by it (docs/theory.md eq. 25).
   double time_scaling = 1.0;
+  /// The scene's materials, indexed by BodyRange::material, read-only: a process that models part of
+  /// a body beyond its particles (friction_drilling's sheet beyond the disc, eq. 121b) takes that
+  /// body's properties from here instead of repeating them in its own parameters. Reference density
+  /// is the physical one (no mass scaling).
+  const std::vector<const Material*>* materials = nullptr;
 };
 
 class Process {

@@ -442,6 +442,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       material_names.push_back(desc->name);
     }
   }
+  for (const auto& material : materials_) material_views_.push_back(material.get());
   {
     auto [desc, values] = load_plugin(loader, PluginKind::Process, root, root.raw("process"), "/process");
     process_ = desc->make_process(values);
@@ -865,6 +866,7 @@ ProcessContext Simulation::context() {
   ProcessContext ctx{time_, dt_, step_, &fields_, &tools_, &bodies_};
   ctx.mechanical_count = mechanical_count_;
   ctx.time_scaling = settings_.time_scaling;
+  ctx.materials = &material_views_;
   return ctx;
 }
 

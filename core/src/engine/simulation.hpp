@@ -164,6 +164,7 @@ class Simulation {
   PluginLoader& loader_;
   std::vector<std::unique_ptr<Material>> materials_;  ///< [0]: the case's "material"
   std::vector<std::string> material_keys_;           ///< "" for [0], else the key in "materials"
+  std::vector<const Material*> material_views_;      ///< materials_ read-only, for ProcessContext::materials
   std::unique_ptr<Process> process_;
   std::vector<std::unique_ptr<ContactLaw>> contact_laws_;
   ControllerPhases controllers_;

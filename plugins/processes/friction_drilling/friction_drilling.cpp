@@ -48,15 +48,8 @@ class FrictionDrilling final : public Process {
     clamp_width_ = p.number("clamp_width");
     clamp_temperature_ = p.number("clamp_temperature");
     far_radius_ = p.number("sheet_far_field_radius");
-    far_conductivity_ = p.number("sheet_conductivity");
-    far_heat_capacity_ = p.number("sheet_heat_capacity");
     if (far_radius_ > 0.0) {
       if (far_radius_ <= radius_) p.fail("sheet_far_field_radius", "must exceed the disc radius (0: no far field)");
-      if (far_conductivity_ <= 0.0)
-        p.fail("sheet_conductivity", "the sheet's conductivity is needed with sheet_far_field_radius (the far field is "
-               "not made of particles and does not see the material)");
-      if (far_heat_capacity_ <= 0.0)
-        p.fail("sheet_heat_capacity", "the sheet's rho c is needed with sheet_far_field_radius");
       if (clamp_temperature_ > 0.0)
         p.fail("sheet_far_field_radius", "choose one heat path at the rim: clamp_temperature or the far field");
     }
@@ -186,9 +179,11 @@ class FrictionDrilling final : public Process {
       }
       if (count == 0) throw std::invalid_argument("friction_drilling: no particle on the disc's rim for the far field");
       ring_count_ = static_cast<double>(count);
+      const double T_ring = T_sum / count;
+      sheet_thermal_properties(ctx, T_ring);
       ring_heat_capacity_ = far_heat_capacity_ * ring_count_ * spacing_ * spacing_ * spacing_;
       far_field_.emplace(radius_sum / count, radius_, far_radius_, thickness_eff(), 2.0 * std::numbers::pi / sectors_,
-                         far_conductivity_, far_heat_capacity_, T_sum / count, spacing_);
+                         far_conductivity_, far_heat_capacity_, T_ring, spacing_);
     }
     // Thermocouple (eq. 126): the upper-surface sheet particle nearest (probe_radius, 0, top).
     if (f.f64_if(field::temperature)) {
@@ -407,11 +402,35 @@ class FrictionDrilling final : public Process {
     m["sector_count"] = sectors_;
     m["failed_particles"] = failed_;
     m["plastic_strain_max"] = plastic_strain_max_;
-    if (far_radius_ > 0.0) m["far_field_energy_J"] = far_field_energy_;
+    if (far_radius_ > 0.0) {
+      m["far_field_energy_J"] = far_field_energy_;
+      // The sheet material's values the annulus uses (eq. 121b), for the record.
+      m["far_field_conductivity_W_per_m_K"] = far_conductivity_;
+      m["far_field_heat_capacity_J_per_m3_K"] = far_heat_capacity_;
+    }
     return m;
   }
 
  private:
+  /// The far field's k and rho c (eq. 121b) are the sheet material's, taken from the material plugin
+  /// so that the case states them once. The annulus is linear: with temperature-dependent properties
+  /// it keeps the values at the rim's initial temperature T (a restart rebuilds the initial scene
+  /// before initialize(), so it gets the same values).
+  void sheet_thermal_properties(const ProcessContext& ctx, double T) {
+    const BodyRange* sheet = nullptr;
+    for (const BodyRange& b : *ctx.bodies)
+      if (b.name == "sheet") sheet = &b;
+    if (!sheet || !ctx.materials) throw std::logic_error("friction_drilling: the sheet's material is not visible");
+    const Material& material = *(*ctx.materials)[sheet->material];
+    double k = 0.0, c = 0.0;
+    ThermalBatch batch{1, &T, &k, &c, ctx.fields, sheet->first};
+    material.thermal_properties(batch);
+    far_conductivity_ = k;
+    far_heat_capacity_ = material.reference_density() * c;
+    if (!(far_conductivity_ > 0.0 && far_heat_capacity_ > 0.0))
+      throw std::invalid_argument("friction_drilling: the far field needs a sheet material that conducts heat");
+  }
+
   /// Sheet thickness as built: nz dx (equals the nominal t when t is a multiple of dx).
   double thickness_eff() const { return top_ + thickness_; }
 
@@ -495,10 +514,6 @@ const PluginDescriptor& descriptor() {
           ParamSpec::number("sheet_far_field_radius", "m", 0.0,
                             "outer radius of the sheet beyond the disc that takes heat from the disc's rim (eq. 121b): "
                             "a thin annulus, radial conduction only, faces adiabatic; 0: none (the rim is adiabatic)", 0.0),
-          ParamSpec::number("sheet_conductivity", "W/(m*K)", 0.0,
-                            "conductivity k of the far field (eq. 121b): the sheet material's", 0.0),
-          ParamSpec::number("sheet_heat_capacity", "J/(m^3*K)", 0.0,
-                            "volumetric heat capacity rho c of the far field (eq. 121b): the sheet material's", 0.0),
           ParamSpec::number("feed_rate", "m/s", 50e-3 / 60.0,
                             "initial value of the command drill_feed_rate (downwards, physical; x time_scaling)", 0.0),
           ParamSpec::number("rotation_speed", "rad/s", 5800.0 * 2.0 * std::numbers::pi / 60.0,
