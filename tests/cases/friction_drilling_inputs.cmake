@@ -34,7 +34,7 @@ expect_check(2 "hx220_m4_quick.json at /process/drill_profile"
              "${CASES}/hx220_m4_quick.json" --set "process.drill_profile=[1, 2]")
 # The sheet beyond the disc (eq. 121b): it must reach past the disc and excludes a rim held at a
 # temperature (one heat path at the rim). Its k and rho c are the sheet material's, not process
-# parameters (friction_drilling_far_field_material.cmake).
+# parameters (friction_drilling_rim_heat.cmake).
 expect_check(2 "hx220_m4_quick.json at /process/sheet_far_field_radius: must exceed the disc radius"
              "${CASES}/hx220_m4_quick.json" --set "process.sheet_far_field_radius=4 mm")
 expect_check(2 "hx220_m4_quick.json at /process/sheet_conductivity"
