@@ -25,6 +25,8 @@ namespace {
 using namespace sphforge;
 using Vec = Eigen::Vector3d;
 
+/// Name of the sheet's body (BodyRange::name), through which the far field finds the sheet's material.
+constexpr const char* kSheetBody = "sheet";
 /// Name of the per-particle clamp flag (1: part of the fixed rim, eq. 121).
 constexpr const char* kClampedField = "clamped";
 /// Name of the per-particle flag of the disc's outer ring, which exchanges heat with the sheet
@@ -115,7 +117,7 @@ class FrictionDrilling final : public Process {
           if (std::hypot(x, y) <= radius_ - 0.5 * spacing_ + 1e-9 * spacing_)
             sheet.emplace_back(x, y, -thickness_ + (k + 0.5) * spacing_);
         }
-    scene.add_body("sheet", sheet, spacing_);
+    scene.add_body(kSheetBody, sheet, spacing_);
     // The layers span nz dx; with t not a multiple of dx the top surface is at -t + nz dx.
     top_ = -thickness_ + nz * spacing_;
 
@@ -419,7 +421,7 @@ class FrictionDrilling final : public Process {
   void sheet_thermal_properties(const ProcessContext& ctx, double T) {
     const BodyRange* sheet = nullptr;
     for (const BodyRange& b : *ctx.bodies)
-      if (b.name == "sheet") sheet = &b;
+      if (b.name == kSheetBody) sheet = &b;
     if (!sheet || !ctx.materials) throw std::logic_error("friction_drilling: the sheet's material is not visible");
     const Material& material = *(*ctx.materials)[sheet->material];
     double k = 0.0, c = 0.0;
