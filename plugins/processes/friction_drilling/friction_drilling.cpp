@@ -25,8 +25,6 @@ namespace {
 using namespace sphforge;
 using Vec = Eigen::Vector3d;
 
-/// Name of the sheet's body (BodyRange::name), through which the far field finds the sheet's material.
-constexpr const char* kSheetBody = "sheet";
 /// Name of the per-particle clamp flag (1: part of the fixed rim, eq. 121).
 constexpr const char* kClampedField = "clamped";
 /// Name of the per-particle flag of the disc's outer ring, which exchanges heat with the sheet
@@ -117,7 +115,7 @@ class FrictionDrilling final : public Process {
           if (std::hypot(x, y) <= radius_ - 0.5 * spacing_ + 1e-9 * spacing_)
             sheet.emplace_back(x, y, -thickness_ + (k + 0.5) * spacing_);
         }
-    scene.add_body(kSheetBody, sheet, spacing_);
+    sheet_body_ = scene.add_body("sheet", sheet, spacing_);
     // The layers span nz dx; with t not a multiple of dx the top surface is at -t + nz dx.
     top_ = -thickness_ + nz * spacing_;
 
@@ -419,13 +417,11 @@ class FrictionDrilling final : public Process {
   /// it keeps the values at the rim's initial temperature T (a restart rebuilds the initial scene
   /// before initialize(), so it gets the same values).
   void sheet_thermal_properties(const ProcessContext& ctx, double T) {
-    const BodyRange* sheet = nullptr;
-    for (const BodyRange& b : *ctx.bodies)
-      if (b.name == kSheetBody) sheet = &b;
-    if (!sheet || !ctx.materials) throw std::logic_error("friction_drilling: the sheet's material is not visible");
-    const Material& material = *(*ctx.materials)[sheet->material];
+    if (!ctx.materials) throw std::logic_error("friction_drilling: the core gives no materials to the process");
+    const BodyRange& sheet = (*ctx.bodies)[sheet_body_];
+    const Material& material = *(*ctx.materials)[sheet.material];
     double k = 0.0, c = 0.0;
-    ThermalBatch batch{1, &T, &k, &c, ctx.fields, sheet->first};
+    ThermalBatch batch{1, &T, &k, &c, ctx.fields, sheet.first};
     material.thermal_properties(batch);
     far_conductivity_ = k;
     far_heat_capacity_ = material.reference_density() * c;
@@ -492,6 +488,7 @@ class FrictionDrilling final : public Process {
   std::optional<friction_drilling::SheetFarField> far_field_;
   // The ring's particle count is fixed at initialize(): the flag moves with its particles, none is deleted.
   double ring_count_ = 0.0, ring_heat_capacity_ = 0.0, far_field_heat_ = 0.0, far_field_energy_ = 0.0;
+  std::size_t sheet_body_ = 0;  ///< the sheet's body index (add_body's, = ProcessContext::bodies')
   // Bushing evaluation: next simulated time, connectivity and band scratch (storage kept between calls).
   double next_bushing_ = 0.0;
   friction_drilling::SheetConnectivity connectivity_;
