@@ -8,6 +8,11 @@
 #include "command_line.hpp"
 
 #include <nlohmann/json.hpp>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,7 +23,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -27,6 +34,7 @@ using namespace sphforge_test;
 namespace {
 
 const std::string kQuick = std::string(SPHFORGE_SOURCE_DIR) + "/cases/friction_extrusion/aa7075_pid_300kN_quick.json";
+const std::string kFsbeQuick = std::string(SPHFORGE_SOURCE_DIR) + "/cases/fsbe/brass_wire_quick.json";
 
 /// Runs sphforge with `args` from a scratch folder; stdout and stderr captured to files there.
 Result sphforge(const std::vector<std::string>& args, const fs::path& dir) {
@@ -178,6 +186,54 @@ TEST(FrictionExtrusion, TimeMeanForceIsTheStepWeightedHistoryMean) {
               t_a, t_end, steps, time_mean / 1e3, history_mean / 1e3, sample_mean / 1e3);
   EXPECT_NEAR(time_mean, history_mean, 1e-9 * std::abs(history_mean));
   EXPECT_GT(std::abs(sample_mean - history_mean), 1e-9 * std::abs(history_mean));
+}
+
+TEST(FrictionExtrusion, DieBodyFollowsAConicalFaceHalfASpacingBehindIt) {
+  // Eq. 92 makes the contact a perfect thermal interface only if the tool's thermal particles sit
+  // dx/2 behind its surface, as the workpiece's sit dx/2 in front. The FSBE quick case's face rises
+  // by 2 mm from the container wall (r = 15 mm) to the bore (r = 3.5 mm) at dx = 3 mm, its die body
+  // is 6 mm thick (2 layers), and the billet's top, hence the flat face level z0, is at 13 dx = 39 mm.
+  // Every column of the die body must hold layers at face(r) + (k + 1/2) dx, k = 0, 1: the first
+  // one included. (A fixed-z lattice cut by the cone lost the first layer wherever the face rises,
+  // leaving the nearest die particles 3 dx/2 behind it; measured on 2026-12-06 at 2 mm, the tool
+  // thermocouple of the full case then rose 345 K less in its first second.) The frame at t = 0 is
+  // the built scene; 1e-9 m is round-off on millimetre coordinates.
+  const fs::path dir = scratch("conical_die_body");
+  const Result r = sphforge({"run", kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s"}, dir);
+  ASSERT_EQ(r.code, 0) << describe(r);
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName((dir / "out" / "particles_000000.vtu").string().c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  vtkDataArray* body = grid->GetPointData()->GetArray("body");
+  ASSERT_NE(body, nullptr);
+  const double dx = 3e-3, z0 = 39e-3, radius = 15e-3, orifice = 3.5e-3, rise = 2e-3;
+  const auto face = [&](double rr) { return z0 + rise * std::clamp((radius - rr) / (radius - orifice), 0.0, 1.0); };
+  // The die body: the only body with particles above the flat face level inside the container.
+  double die_id = -1.0;
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
+    double x[3];
+    grid->GetPoint(i, x);
+    if (x[2] > z0 + 1e-9 && std::hypot(x[0], x[1]) < radius) die_id = body->GetTuple1(i);
+  }
+  ASSERT_GE(die_id, 0.0);
+  std::map<std::pair<long, long>, std::vector<int>> layers;  // column (x, y in um) -> layer indices
+  int particles = 0;
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
+    if (body->GetTuple1(i) != die_id) continue;
+    double x[3];
+    grid->GetPoint(i, x);
+    const double height = (x[2] - face(std::hypot(x[0], x[1]))) / dx - 0.5;  // k
+    EXPECT_NEAR(height, std::round(height), 1e-9 / dx) << "die particle at (" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+    layers[{std::lround(x[0] * 1e6), std::lround(x[1] * 1e6)}].push_back(static_cast<int>(std::lround(height)));
+    ++particles;
+  }
+  ASSERT_GT(layers.size(), 5u);
+  for (auto& [column, k] : layers) {
+    std::sort(k.begin(), k.end());
+    EXPECT_EQ(k, (std::vector<int>{0, 1})) << "column at (" << column.first << ", " << column.second << ") um";
+  }
+  std::printf("die body: %d particles in %zu columns\n", particles, layers.size());
 }
 
 }  // namespace

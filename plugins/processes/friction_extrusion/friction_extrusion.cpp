@@ -120,19 +120,24 @@ class FrictionExtrusion final : public Process {
     die_ = scene.add_tool(std::move(tool));
 
     if (!thermal_tools_) return;
-    // Thermal-only bodies (theory section 9.1) on the same lattice, dx/2 behind the tool surfaces
-    // so that the contact conducts like a perfect interface (eq. 92).
+    // Thermal-only bodies (theory section 9.1) dx/2 behind the tool surfaces so that the contact
+    // conducts like a perfect interface (eq. 92). The die body's columns follow the (possibly
+    // conical) face: layer k sits at face(r) + (k + 1/2) dx. A fixed-z lattice cut by the cone left
+    // its first layer between dx/2 and 3 dx/2 behind the face, a gap that eq. 92 does not allow for:
+    // at 2 mm in the FSBE case the nearest die particles were 2 dx from the billet's top layer and
+    // the die took almost no heat by conduction (the 2026-12-06 FSBE study).
     std::vector<Vec> die_body, container_body;
     const int nd = std::max(1, static_cast<int>(std::lround(die_thickness_ / dx)));
     for (int k = 0; k < nd; ++k)
       for (int j = -nr; j < nr; ++j)
         for (int i = -nr; i < nr; ++i) {
           const double px = (i + 0.5) * dx, py = (j + 0.5) * dx, r = std::hypot(px, py);
-          const double z = face_z0_ + (k + 0.5) * dx;
-          // Behind the (possibly conical) face and outside the orifice.
-          const double face = face_z0_ + face_depth_ * std::clamp((radius_ - r) / (radius_ - orifice_radius_), 0.0, 1.0);
-          if (r <= radius_ - 0.5 * dx + 1e-9 * dx && r >= orifice_radius_ + 0.5 * dx - 1e-9 * dx && z >= face + 0.5 * dx - 1e-9 * dx)
-            die_body.emplace_back(px, py, z);
+          if (r > radius_ - 0.5 * dx + 1e-9 * dx || r < orifice_radius_ + 0.5 * dx - 1e-9 * dx) continue;
+          const double z = die_face_height(r) + (k + 0.5) * dx;
+          // A rounded orifice edge (orifice_edge_fillet) cuts into the first layers: keep only sites
+          // well inside the die (a sloped face leaves its first layer dx/2 cos(slope) from it).
+          Eigen::Vector2d normal;
+          if (profile.signed_distance({r, z - face_z0_}, normal) <= -0.25 * dx) die_body.emplace_back(px, py, z);
         }
     const int nb = std::max(1, static_cast<int>(std::lround(bottom_thickness_ / dx)));
     const int nt = static_cast<int>(std::floor(top / dx));
@@ -213,7 +218,7 @@ class FrictionExtrusion final : public Process {
       if (cooled_T_ < 0.0) continue;
       // Actively cooled variant: the outer layer of the die body (its back) and of the container
       // (outer wall and underside) held at cooled_surface_temperature.
-      const bool die_back = body[i] == die_body && z > face_z0_ + die_thickness_ - dx;
+      const bool die_back = body[i] == die_body && z - die_face_height(r) > die_thickness_ - dx;
       const bool container_outer =
           body[i] == container_body && (r > radius_ + wall_thickness_ - dx || z < -bottom_thickness_ + dx);
       if (die_back || container_outer) {
@@ -470,6 +475,12 @@ class FrictionExtrusion final : public Process {
   }
 
  private:
+  // Height of the die face at radius r at the start (it rises linearly by face_cone_depth from the
+  // container wall to the orifice edge; flat when that is 0), the orifice edge's fillet left out.
+  double die_face_height(double r) const {
+    return face_z0_ + face_depth_ * std::clamp((radius_ - r) / (radius_ - orifice_radius_), 0.0, 1.0);
+  }
+
   static std::string mm(double length) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", length * 1e3);
