@@ -15,7 +15,7 @@ function(expect_check code regex)
 endfunction()
 
 # PID on drill_axial_force -> drill_feed_rate (the names the process offers).
-expect_check(0 "is valid: 15804 particles" "${CASES}/hx220_m4_force_controlled.json")
+expect_check(0 "is valid: 16408 particles" "${CASES}/hx220_m4_force_controlled.json")
 # A misspelt signal is an input error at the controller's parameter.
 expect_check(2 "hx220_m4_force_controlled.json at /controllers/0/measured"
              "${CASES}/hx220_m4_force_controlled.json" --set "controllers.0.measured=drill_force")

@@ -5,17 +5,11 @@
 // the CTest case.friction_extrusion.aa7075_pid_300kN_quick (tests/cases/fe_quick.cmake).
 #include <gtest/gtest.h>
 
-#include "command_line.hpp"
+#include "process_runs.hpp"
 
 #include <nlohmann/json.hpp>
 #include <vtkDataArray.h>
-#include <vtkNew.h>
 #include <vtkPointData.h>
-#include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -36,27 +30,9 @@ namespace {
 const std::string kQuick = std::string(SPHFORGE_SOURCE_DIR) + "/cases/friction_extrusion/aa7075_pid_300kN_quick.json";
 const std::string kFsbeQuick = std::string(SPHFORGE_SOURCE_DIR) + "/cases/fsbe/brass_wire_quick.json";
 
-/// Runs sphforge with `args` from a scratch folder; stdout and stderr captured to files there.
-Result sphforge(const std::vector<std::string>& args, const fs::path& dir) {
-  fs::create_directories(dir);
-  std::string cmd = "cd " + shell_quote(dir.string()) +
-                    " && env -u SPHFORGE_PLUGIN_PATH OMP_WAIT_POLICY=PASSIVE OMP_NUM_THREADS=1 timeout -k 10 300 " +
-                    shell_quote(SPHFORGE_EXECUTABLE);
-  for (const auto& a : args) cmd += " " + shell_quote(a);
-  cmd += " >" + shell_quote((dir / "stdout.txt").string()) + " 2>" + shell_quote((dir / "stderr.txt").string());
-  const int status = std::system(cmd.c_str());
-  Result r;
-  r.code = status == -1 ? -1 : WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.out = slurp(dir / "stdout.txt");
-  r.err = slurp(dir / "stderr.txt");
-  return r;
-}
+Result sphforge(const std::vector<std::string>& args, const fs::path& dir) { return run_sphforge(args, dir); }
 
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("sphforge_fe_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(p);
-  return p;
-}
+fs::path scratch(const std::string& name) { return scratch_folder("fe", name); }
 
 /// history.csv of a finished run: the header's names and the rows' numbers.
 struct Table {
@@ -201,10 +177,7 @@ TEST(FrictionExtrusion, DieBodyFollowsAConicalFaceHalfASpacingBehindIt) {
   const fs::path dir = scratch("conical_die_body");
   const Result r = sphforge({"run", kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s"}, dir);
   ASSERT_EQ(r.code, 0) << describe(r);
-  vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName((dir / "out" / "particles_000000.vtu").string().c_str());
-  reader->Update();
-  vtkUnstructuredGrid* grid = reader->GetOutput();
+  const vtkSmartPointer<vtkUnstructuredGrid> grid = read_particle_frame(dir / "out" / "particles_000000.vtu");
   vtkDataArray* body = grid->GetPointData()->GetArray("body");
   ASSERT_NE(body, nullptr);
   const double dx = 3e-3, z0 = 39e-3, radius = 15e-3, orifice = 3.5e-3, rise = 2e-3;

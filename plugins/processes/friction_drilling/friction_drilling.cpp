@@ -129,9 +129,14 @@ class FrictionDrilling final : public Process {
     drill_ = scene.add_tool(std::move(drill));
 
     if (!drill_body_) return;
-    // The drill's thermal body (eq. 122): lattice sites inside the profile at least dx/2 behind its
-    // surface (the tool particles then sit dx/2 behind the wall as the sheet's sit dx/2 in front:
-    // perfect thermal contact, theory eq. 92), up to drill_body_length above the tip.
+    // The drill's thermal body (eq. 122): the lattice sites inside the profile, up to
+    // drill_body_length above the tip, each moved along the profile's normal onto the nearest depth
+    // (n + 1/2) dx behind the surface, so that the outer layer sits dx/2 behind the wall as the
+    // sheet's particles sit dx/2 in front: perfect thermal contact (theory eq. 92). The sites of
+    // the slab n dx <= depth < (n + 1) dx go to its middle, so every slab keeps its particles and
+    // the body its volume. Without the move, a cubic lattice cut by the cones and the 3.7 mm
+    // cylinder left the surface about 1.0 dx from its nearest drill particle instead of the
+    // 0.65 dx of a lattice aligned with a flat wall (2026-12-06, eq. 122).
     std::vector<Vec> body;
     const int nb = static_cast<int>(std::ceil(drill_radius_ / spacing_)) + 1;
     const int nzb = static_cast<int>(std::floor(drill_body_length_ / spacing_));
@@ -140,8 +145,14 @@ class FrictionDrilling final : public Process {
       for (int j = -nb; j < nb; ++j)
         for (int i = -nb; i < nb; ++i) {
           const double x = (i + 0.5) * spacing_, y = (j + 0.5) * spacing_, z = (k + 0.5) * spacing_;
-          if (profile_.signed_distance({std::hypot(x, y), z}, normal) <= -0.5 * spacing_ * (1.0 - 1e-9))
-            body.emplace_back(x, y, z + tip_start_);
+          const double r = std::hypot(x, y);
+          const double d = profile_.signed_distance({r, z}, normal);
+          if (d > 0.0) continue;
+          const double depth = (std::floor(-d / spacing_) + 0.5) * spacing_;
+          const double move = -depth - d;  // along the outward normal, |move| <= dx/2
+          // r >= dx/sqrt(2) on this lattice, so r_new > 0.2 dx: the site keeps its azimuth.
+          const double r_new = r + move * normal.x(), z_new = z + move * normal.y();
+          body.emplace_back(x * r_new / r, y * r_new / r, z_new + tip_start_);
         }
     if (body.empty()) throw std::invalid_argument("friction_drilling: the drill body holds no particle at this spacing");
     scene.add_tool_body("drill_body", std::move(body), spacing_, drill_material_, "drill");
