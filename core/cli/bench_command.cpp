@@ -457,6 +457,20 @@ void print_errors(const std::vector<BenchRow>& rows, const Table& t, const Refer
   std::fflush(stdout);
 }
 
+/// One plot series per metric: (wall time, relative error) of every run that has both.
+std::vector<PlotSeries> error_series(const std::vector<BenchRow>& rows, const Table& table) {
+  std::vector<PlotSeries> series;
+  for (const auto& m : table.metrics) {
+    PlotSeries s{m, {}};
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const auto e = table.errors[i].find(m);
+      if (rows[i].wall_s && e != table.errors[i].end()) s.points.emplace_back(*rows[i].wall_s, e->second);
+    }
+    series.push_back(std::move(s));
+  }
+  return series;
+}
+
 json bench_json(const BenchOptions& o, const std::string& case_name, const std::string& key,
                 const std::vector<BenchRow>& rows, const Table& t, const Reference& ref) {
   json j;
@@ -483,8 +497,13 @@ json bench_json(const BenchOptions& o, const std::string& case_name, const std::
   j["reference"] = r;
   j["columns"] = csv_header(t);
   json legend = json::object();
+  const std::vector<std::optional<std::array<int, 3>>> colours = plot_colours(error_series(rows, t));
   for (std::size_t i = 0; i < t.metrics.size(); ++i) {
-    const auto c = plot_colour(i);
+    if (!colours[i]) {
+      legend[t.metrics[i]] = nullptr;  // not drawn: no positive error
+      continue;
+    }
+    const std::array<int, 3>& c = *colours[i];
     char hex[8];
     std::snprintf(hex, sizeof hex, "#%02x%02x%02x", c[0], c[1], c[2]);
     legend[t.metrics[i]] = hex;
@@ -569,15 +588,7 @@ int run_bench(const BenchOptions& o) {
   const Table table = tabulate(rows, ref);
   write_csv(out / "bench.csv", rows, table);
   write_atomically(out / "bench.json", bench_json(o, case_name, key, rows, table, ref).dump(2) + "\n");
-  std::vector<PlotSeries> series;
-  for (const auto& m : table.metrics) {
-    PlotSeries s{m, {}};
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const auto e = table.errors[i].find(m);
-      if (rows[i].wall_s && e != table.errors[i].end()) s.points.emplace_back(*rows[i].wall_s, e->second);
-    }
-    series.push_back(std::move(s));
-  }
+  const std::vector<PlotSeries> series = error_series(rows, table);
   std::string spacing_text;
   for (const double dx : spacings) spacing_text += (spacing_text.empty() ? "" : ", ") + spacing_label(dx);
   write_error_plot(out / "bench.png", series, case_name + ": relative error against wall time",

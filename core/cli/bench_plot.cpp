@@ -170,9 +170,18 @@ class Canvas {
 
 }  // namespace
 
-std::array<int, 3> plot_colour(std::size_t index) {
-  const auto& c = kPalette[index % kPalette.size()];
-  return {c[0], c[1], c[2]};
+std::vector<std::optional<std::array<int, 3>>> plot_colours(const std::vector<PlotSeries>& series) {
+  std::vector<std::optional<std::array<int, 3>>> colours(series.size());
+  std::size_t rank = 0;
+  for (std::size_t i = 0; i < series.size(); ++i)
+    for (const auto& [x, y] : series[i].points)
+      if (x > 0.0 && y > 0.0 && std::isfinite(x) && std::isfinite(y)) {
+        const auto& c = kPalette[rank % kPalette.size()];
+        colours[i] = std::array<int, 3>{c[0], c[1], c[2]};
+        ++rank;
+        break;
+      }
+  return colours;
 }
 
 void write_error_plot(const std::filesystem::path& file, const std::vector<PlotSeries>& series,
@@ -239,23 +248,28 @@ void write_error_plot(const std::filesystem::path& file, const std::vector<PlotS
   c.line(right, bottom, right, top);
 
   // Data: polyline then markers, series by series.
+  // Colour and marker go by the rank among the drawn series (plot_colours), not by the index among
+  // all: with many metrics not drawn, two drawn ones 8 apart in the list shared a colour and a marker.
+  const std::vector<std::optional<std::array<int, 3>>> colours = plot_colours(series);
   std::vector<bool> drawn(series.size(), false);
+  int rank = 0;
   for (std::size_t i = 0; i < series.size(); ++i) {
+    if (!colours[i]) continue;
+    drawn[i] = true;
     std::vector<std::pair<int, int>> px;
     for (const auto& [x, y] : series[i].points)
       if (x > 0.0 && y > 0.0 && std::isfinite(x) && std::isfinite(y))
         px.emplace_back(static_cast<int>(std::lround(ax.pixel(x))), static_cast<int>(std::lround(ay.pixel(y))));
-    const auto rgb = plot_colour(i);
+    const std::array<int, 3>& rgb = *colours[i];
     c.colour(rgb[0], rgb[1], rgb[2]);
     for (std::size_t k = 1; k < px.size(); ++k)
       c.thick_line(px[k - 1].first, px[k - 1].second, px[k].first, px[k].second, 1.2);
-    for (const auto& [x, y] : px) c.marker(static_cast<int>(i), x, y, 4);
-    drawn[i] = !px.empty();
-    if (!drawn[i]) continue;
+    for (const auto& [x, y] : px) c.marker(rank, x, y, 4);
     // Legend entry: a line sample with the marker.
     const int ly = top - 12 - 24 * static_cast<int>(i);
     c.thick_line(legend_x, ly, legend_x + 30, ly, 1.2);
-    c.marker(static_cast<int>(i), legend_x + 15, ly, 4);
+    c.marker(rank, legend_x + 15, ly, 4);
+    ++rank;
   }
 
   // Text last: it is blended into the finished drawing.

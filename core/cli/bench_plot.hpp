@@ -5,6 +5,7 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,8 +17,10 @@ struct PlotSeries {
   std::vector<std::pair<double, double>> points; ///< (wall time [s], relative error [1]); non-positive values are skipped
 };
 
-/// The colour (RGB 0..255) of series `index`, also reported in bench.json.
-std::array<int, 3> plot_colour(std::size_t index);
+/// The colour (RGB 0..255) of every series as the plot draws it, also reported in bench.json: the
+/// series with a point to draw (both coordinates positive and finite) take the palette in turn, the
+/// others none (their legend entry is grey).
+std::vector<std::optional<std::array<int, 3>>> plot_colours(const std::vector<PlotSeries>& series);
 
 /// Draws the series and writes `file` (PNG, width x height pixels). `title` goes above the axes;
 /// `note` (e.g. what the error is measured against; lines separated by '\n') below the title. Throws std::runtime_error

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -222,6 +223,23 @@ TEST_F(Bench, TwoSpacingsWriteCsvPlotJsonAndRunFolders) {
     if (t[0] == 255 && t[1] == 255 && t[2] == 255) ++white;
   }
   EXPECT_GT(coloured, 50) << "the pressure error's polyline and markers are drawn in " << hex;
+  // The drawn metrics take the palette's 8 colours in turn and the others none (null), so up to 8
+  // drawn metrics never share a colour however many are listed (colours by list index did: with 12
+  // metrics of which 2 drawn, the 4th and the 12th looked the same).
+  std::set<std::string> distinct;
+  std::size_t drawn = 0, listed = 0;
+  for (const auto& [metric, colour] : bench["plot"]["colours"].items()) {
+    ++listed;
+    bool positive = false;  // drawn iff some run has a positive error (bench.csv)
+    for (std::size_t i = 0; i < csv.rows.size(); ++i) positive = positive || csv.number(i, metric + "_error_1") > 0.0;
+    EXPECT_EQ(colour.is_null(), !positive) << metric;
+    if (colour.is_null()) continue;
+    ++drawn;
+    distinct.insert(colour.get<std::string>());
+  }
+  std::printf("plot: %zu of %zu metrics drawn, %zu colours\n", drawn, listed, distinct.size());
+  EXPECT_GE(drawn, 1u);
+  EXPECT_EQ(distinct.size(), std::min<std::size_t>(drawn, 8));
   EXPECT_GT(white, pixels->GetNumberOfTuples() / 2) << "a white background";
 }
 
