@@ -472,7 +472,8 @@ std::vector<PlotSeries> error_series(const std::vector<BenchRow>& rows, const Ta
 }
 
 json bench_json(const BenchOptions& o, const std::string& case_name, const std::string& key,
-                const std::vector<BenchRow>& rows, const Table& t, const Reference& ref) {
+                const std::vector<BenchRow>& rows, const Table& t, const Reference& ref,
+                const std::vector<PlotSeries>& series) {
   json j;
   j["case"] = case_name;
   j["case_file"] = o.case_path;
@@ -497,7 +498,7 @@ json bench_json(const BenchOptions& o, const std::string& case_name, const std::
   j["reference"] = r;
   j["columns"] = csv_header(t);
   json legend = json::object();
-  const std::vector<std::optional<std::array<int, 3>>> colours = plot_colours(error_series(rows, t));
+  const std::vector<std::optional<std::array<int, 3>>> colours = plot_colours(series);  // as bench.png draws them
   for (std::size_t i = 0; i < t.metrics.size(); ++i) {
     if (!colours[i]) {
       legend[t.metrics[i]] = nullptr;  // not drawn: no positive error
@@ -587,8 +588,8 @@ int run_bench(const BenchOptions& o) {
 
   const Table table = tabulate(rows, ref);
   write_csv(out / "bench.csv", rows, table);
-  write_atomically(out / "bench.json", bench_json(o, case_name, key, rows, table, ref).dump(2) + "\n");
   const std::vector<PlotSeries> series = error_series(rows, table);
+  write_atomically(out / "bench.json", bench_json(o, case_name, key, rows, table, ref, series).dump(2) + "\n");
   std::string spacing_text;
   for (const double dx : spacings) spacing_text += (spacing_text.empty() ? "" : ", ") + spacing_label(dx);
   write_error_plot(out / "bench.png", series, case_name + ": relative error against wall time",

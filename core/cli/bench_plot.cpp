@@ -168,6 +168,9 @@ class Canvas {
   vtkImageData* image_ = nullptr;
 };
 
+/// A point the log-log plot can draw: both coordinates positive and finite.
+bool drawable(double x, double y) { return x > 0.0 && y > 0.0 && std::isfinite(x) && std::isfinite(y); }
+
 }  // namespace
 
 std::vector<std::optional<std::array<int, 3>>> plot_colours(const std::vector<PlotSeries>& series) {
@@ -175,7 +178,7 @@ std::vector<std::optional<std::array<int, 3>>> plot_colours(const std::vector<Pl
   std::size_t rank = 0;
   for (std::size_t i = 0; i < series.size(); ++i)
     for (const auto& [x, y] : series[i].points)
-      if (x > 0.0 && y > 0.0 && std::isfinite(x) && std::isfinite(y)) {
+      if (drawable(x, y)) {
         const auto& c = kPalette[rank % kPalette.size()];
         colours[i] = std::array<int, 3>{c[0], c[1], c[2]};
         ++rank;
@@ -203,7 +206,7 @@ void write_error_plot(const std::filesystem::path& file, const std::vector<PlotS
   bool any = false;
   for (const auto& s : series)
     for (const auto& [x, y] : s.points) {
-      if (!(x > 0.0) || !(y > 0.0) || !std::isfinite(x) || !std::isfinite(y)) continue;
+      if (!drawable(x, y)) continue;
       any = true;
       xmin = std::min(xmin, x);
       xmax = std::max(xmax, x);
@@ -258,7 +261,7 @@ void write_error_plot(const std::filesystem::path& file, const std::vector<PlotS
     drawn[i] = true;
     std::vector<std::pair<int, int>> px;
     for (const auto& [x, y] : series[i].points)
-      if (x > 0.0 && y > 0.0 && std::isfinite(x) && std::isfinite(y))
+      if (drawable(x, y))
         px.emplace_back(static_cast<int>(std::lround(ax.pixel(x))), static_cast<int>(std::lround(ay.pixel(y))));
     const std::array<int, 3>& rgb = *colours[i];
     c.colour(rgb[0], rgb[1], rgb[2]);

@@ -171,8 +171,8 @@ TEST(FrictionExtrusion, DieBodyFollowsAConicalFaceHalfASpacingBehindIt) {
   // is 6 mm thick (2 layers), and the billet's top, hence the flat face level z0, is at 13 dx = 39 mm.
   // Every column of the die body must hold layers at face(r) + (k + 1/2) dx, k = 0, 1: the first
   // one included. (A fixed-z lattice cut by the cone lost the first layer wherever the face rises,
-  // leaving the nearest die particles 3 dx/2 behind it; measured on 2026-12-06 at 2 mm, the tool
-  // thermocouple of the full case then rose 345 K less in its first second.) The frame at t = 0 is
+  // leaving the nearest die particles up to 3 dx/2 behind it; measured on 2026-12-06 at 2 mm, the tool
+  // thermocouple of the full case then read 345 K instead of 545 K after its first second.) The frame at t = 0 is
   // the built scene; 1e-9 m is round-off on millimetre coordinates.
   const fs::path dir = scratch("conical_die_body");
   const Result r = sphforge({"run", kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s"}, dir);
