@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -207,6 +208,56 @@ TEST(FrictionExtrusion, DieBodyFollowsAConicalFaceHalfASpacingBehindIt) {
     EXPECT_EQ(k, (std::vector<int>{0, 1})) << "column at (" << column.first << ", " << column.second << ") um";
   }
   std::printf("die body: %d particles in %zu columns\n", particles, layers.size());
+}
+
+TEST(FrictionExtrusion, ContainerWallBodyStandsInRingsHalfASpacingOutsideTheBore) {
+  // The same requirement as the die body's (eq. 92) at the container's cylindrical wall r = R: its
+  // thermal particles must sit on rings at R + (l + 1/2) dx. The FSBE quick case: R = 15 mm,
+  // dx = 3 mm, a 5 mm wall (round(5/3) = 2 rings), a 90 deg sector (numerics.symmetry): each ring
+  // layer holds round(2 pi r / (4 dx)) sites of the sector, a pitch of 2 pi r / sites apart and half a
+  // pitch off the cut planes, so the sector's images make whole rings (eq. 30). (The cubic lattice
+  // cut at r >= R + dx/2, before 2026-12-06, put the first wall particles a median 1.07 dx from the
+  // wall at 2 mm in the AA7075 case.) 1e-9 m is round-off on millimetre coordinates.
+  const fs::path dir = scratch("container_rings");
+  const Result r = sphforge({"run", kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s", "--set",
+                             "process.container_wall_thickness=6 mm"},
+                            dir);
+  ASSERT_EQ(r.code, 0) << describe(r);
+  const vtkSmartPointer<vtkUnstructuredGrid> grid = read_particle_frame(dir / "out" / "particles_000000.vtu");
+  vtkDataArray* body = grid->GetPointData()->GetArray("body");
+  ASSERT_NE(body, nullptr);
+  const double dx = 3e-3, radius = 15e-3, pi = 3.14159265358979323846;
+  // The container body: the only body with particles outside the bore above the bottom (z > 0).
+  double container_id = -1.0;
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
+    double x[3];
+    grid->GetPoint(i, x);
+    if (x[2] > 0.0 && std::hypot(x[0], x[1]) > radius) container_id = body->GetTuple1(i);
+  }
+  ASSERT_GE(container_id, 0.0);
+  std::map<std::pair<int, long>, std::vector<double>> rings;  // (ring l, height in um) -> polar angles
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
+    if (body->GetTuple1(i) != container_id) continue;
+    double x[3];
+    grid->GetPoint(i, x);
+    if (x[2] < 0.0) continue;  // the bottom: a lattice under a flat wall
+    const double ring = (std::hypot(x[0], x[1]) - radius) / dx - 0.5;  // l
+    EXPECT_NEAR(ring, std::round(ring), 1e-9 / dx) << "wall particle at (" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+    rings[{static_cast<int>(std::lround(ring)), std::lround(x[2] * 1e6)}].push_back(std::atan2(x[1], x[0]));
+  }
+  std::set<int> ring_numbers;
+  for (auto& [key, angles] : rings) {
+    ring_numbers.insert(key.first);
+    const double r_ring = radius + (key.first + 0.5) * dx;
+    const long sites = 4 * std::max(1L, std::lround(2.0 * pi * r_ring / (4.0 * dx)));
+    ASSERT_EQ(static_cast<long>(angles.size()), sites / 4) << "ring " << key.first << " at z = " << key.second << " um";
+    std::sort(angles.begin(), angles.end());
+    const double pitch = 2.0 * pi / static_cast<double>(sites);
+    for (std::size_t m = 0; m < angles.size(); ++m)
+      EXPECT_NEAR(angles[m], (m + 0.5) * pitch, 1e-9) << "ring " << key.first << " at z = " << key.second << " um";
+  }
+  EXPECT_EQ(ring_numbers, (std::set<int>{0, 1}));
+  std::printf("container wall: %zu ring layers, rings at R + dx/2 and R + 3 dx/2\n", rings.size());
 }
 
 }  // namespace
