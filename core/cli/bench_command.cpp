@@ -362,42 +362,8 @@ std::vector<double> parse_spacing_list(const std::string& text) {
 }
 
 std::string parameter_key(const std::string& parameter) {
-  const std::string where = "--parameter";
-  if (parameter.empty()) throw InputError("", where, "expected a key such as process.particle_spacing or /process/particle_spacing");
-  std::vector<std::string> segments;
-  if (parameter[0] == '/') {
-    std::size_t start = 1;
-    for (;;) {
-      const std::size_t slash = parameter.find('/', start);
-      std::string seg = parameter.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
-      std::string unescaped;
-      for (std::size_t i = 0; i < seg.size(); ++i) {
-        if (seg[i] == '~' && i + 1 < seg.size() && (seg[i + 1] == '0' || seg[i + 1] == '1')) {
-          unescaped += seg[i + 1] == '0' ? '~' : '/';
-          ++i;
-        } else {
-          unescaped += seg[i];
-        }
-      }
-      segments.push_back(unescaped);
-      if (slash == std::string::npos) break;
-      start = slash + 1;
-    }
-  } else {
-    std::size_t start = 0;
-    for (;;) {
-      const std::size_t dot = parameter.find('.', start);
-      segments.push_back(parameter.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
-      if (dot == std::string::npos) break;
-      start = dot + 1;
-    }
-  }
-  std::string key;
-  for (const auto& s : segments) {
-    if (s.empty() || s.find('.') != std::string::npos || s.find('=') != std::string::npos)
-      throw InputError("", where, "'" + parameter + "' is not a key path; expected e.g. process.particle_spacing");
-    key += (key.empty() ? "" : ".") + s;
-  }
+  std::string key;  // the dotted form, which the child runs' --set takes
+  for (const auto& segment : case_key_segments(parameter, "--parameter")) key += (key.empty() ? "" : ".") + segment;
   return key;
 }
 

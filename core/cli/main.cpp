@@ -33,6 +33,7 @@ void usage(std::ostream& out) {
       << "      --restart: continue from a checkpoint_NNNNNN.h5 of an earlier run of the same case into a\n"
       << "      new folder (run.checkpoint_interval writes them; only \"run\" may change, e.g.\n"
       << "      --set run.end_time=...). See docs/checkpoints.md\n"
+      << "      --set: a dotted key (controllers.0.value=90 rpm) or a JSON pointer (/controllers/0/value=90 rpm)\n"
       << "  sphforge check CASE [--set key.path=value]...\n"
       << "      validate a case, build its scene and list passes and fields, without running\n"
       << "  sphforge bench [CASE] --spacing DX,DX,... [--parameter KEY] [--reference FILE] [--out DIR]\n"

@@ -81,18 +81,6 @@ json parse_case(const std::string& text, const std::string& path) {
   return root;
 }
 
-std::vector<std::string> split_path(const std::string& key) {
-  std::vector<std::string> segments;
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t dot = key.find('.', start);
-    segments.push_back(key.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
-    if (dot == std::string::npos) break;
-    start = dot + 1;
-  }
-  return segments;
-}
-
 /// An array index segment: digits only (no sign, no spaces), within the array's bounds.
 bool parse_index(const std::string& segment, std::size_t& index) {
   if (segment.empty() || !std::all_of(segment.begin(), segment.end(), [](char c) { return c >= '0' && c <= '9'; }))
@@ -110,10 +98,12 @@ void apply_override(json& root, const std::string& override_text, const std::str
   const std::string value_text = override_text.substr(eq + 1);
   const std::string where = "--set " + key;
 
-  const std::vector<std::string> segments = split_path(key);
-  for (const auto& s : segments)
-    if (s.empty())
-      throw InputError(path, where, "malformed key path '" + key + "'; expected dot-separated names such as material.density");
+  std::vector<std::string> segments;
+  try {
+    segments = case_key_segments(key, where);
+  } catch (const InputError& e) {
+    throw InputError(path, where, e.message());
+  }
 
   // Valid JSON (numbers, true, [1,2], "quoted") is taken as such; anything else is a string,
   // so that unit quantities like 0.4 MPa need no JSON quoting on the command line.
@@ -156,6 +146,32 @@ void apply_override(json& root, const std::string& override_text, const std::str
 }
 
 }  // namespace
+
+std::vector<std::string> case_key_segments(const std::string& key, const std::string& where) {
+  std::vector<std::string> segments;
+  const bool pointer = !key.empty() && key[0] == '/';
+  const char separator = pointer ? '/' : '.';
+  for (std::size_t start = pointer ? 1 : 0;;) {
+    const std::size_t end = key.find(separator, start);
+    std::string segment = key.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (pointer) {  // RFC 6901: ~1 is '/', ~0 is '~'
+      std::string unescaped;
+      for (std::size_t i = 0; i < segment.size(); ++i) {
+        const bool escape = segment[i] == '~' && i + 1 < segment.size() && (segment[i + 1] == '0' || segment[i + 1] == '1');
+        unescaped += escape ? (segment[++i] == '0' ? '~' : '/') : segment[i];
+      }
+      segment = unescaped;
+    }
+    if (segment.empty() || segment.find_first_of(".=") != std::string::npos)
+      throw InputError("", where,
+                       "'" + key + "' is not a key path; expected dot-separated names such as material.density, or a JSON "
+                       "pointer such as /material/density");
+    segments.push_back(segment);
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return segments;
+}
 
 CaseDocument load_case(const std::string& path, const std::vector<std::string>& overrides) {
   CaseDocument doc;
