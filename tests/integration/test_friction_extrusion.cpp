@@ -35,6 +35,29 @@ Result sphforge(const std::vector<std::string>& args, const fs::path& dir) { ret
 
 fs::path scratch(const std::string& name) { return scratch_folder("fe", name); }
 
+/// The FSBE quick case's scene as built (frame 0 of a run stopped after its first step), with
+/// `overrides` ("key=value" for --set), in the scratch folder `name`.
+vtkSmartPointer<vtkUnstructuredGrid> built_fsbe_scene(const std::string& name, const std::vector<std::string>& overrides) {
+  const fs::path dir = scratch(name);
+  std::vector<std::string> args = {"run", kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s"};
+  for (const std::string& o : overrides) args.insert(args.end(), {"--set", o});
+  const Result r = sphforge(args, dir);
+  EXPECT_EQ(r.code, 0) << describe(r);
+  return r.code == 0 ? read_particle_frame(dir / "out" / "particles_000000.vtu") : nullptr;
+}
+
+/// The body index of a particle at which `where(x)` holds (-1 when none does).
+template <class Where>
+double body_of_a_particle(vtkUnstructuredGrid* grid, Where where) {
+  vtkDataArray* body = grid->GetPointData()->GetArray("body");
+  for (vtkIdType i = 0; body != nullptr && i < grid->GetNumberOfPoints(); ++i) {
+    double x[3];
+    grid->GetPoint(i, x);
+    if (where(x)) return body->GetTuple1(i);
+  }
+  return -1.0;
+}
+
 /// history.csv of a finished run: the header's names and the rows' numbers.
 struct Table {
   std::vector<std::string> head;
@@ -175,21 +198,15 @@ TEST(FrictionExtrusion, DieBodyFollowsAConicalFaceHalfASpacingBehindIt) {
   // leaving the nearest die particles up to 3 dx/2 behind it; measured on 2026-12-06 at 2 mm, the tool
   // thermocouple of the full case then read 345 K instead of 545 K after its first second.) The frame at t = 0 is
   // the built scene; 1e-9 m is round-off on millimetre coordinates.
-  const fs::path dir = scratch("conical_die_body");
-  const Result r = sphforge({"run", kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s"}, dir);
-  ASSERT_EQ(r.code, 0) << describe(r);
-  const vtkSmartPointer<vtkUnstructuredGrid> grid = read_particle_frame(dir / "out" / "particles_000000.vtu");
+  const vtkSmartPointer<vtkUnstructuredGrid> grid = built_fsbe_scene("conical_die_body", {});
+  ASSERT_NE(grid, nullptr);
   vtkDataArray* body = grid->GetPointData()->GetArray("body");
   ASSERT_NE(body, nullptr);
   const double dx = 3e-3, z0 = 39e-3, radius = 15e-3, orifice = 3.5e-3, rise = 2e-3;
   const auto face = [&](double rr) { return z0 + rise * std::clamp((radius - rr) / (radius - orifice), 0.0, 1.0); };
   // The die body: the only body with particles above the flat face level inside the container.
-  double die_id = -1.0;
-  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
-    double x[3];
-    grid->GetPoint(i, x);
-    if (x[2] > z0 + 1e-9 && std::hypot(x[0], x[1]) < radius) die_id = body->GetTuple1(i);
-  }
+  const double die_id =
+      body_of_a_particle(grid, [&](const double* x) { return x[2] > z0 + 1e-9 && std::hypot(x[0], x[1]) < radius; });
   ASSERT_GE(die_id, 0.0);
   std::map<std::pair<long, long>, std::vector<int>> layers;  // column (x, y in um) -> layer indices
   int particles = 0;
@@ -213,27 +230,20 @@ TEST(FrictionExtrusion, DieBodyFollowsAConicalFaceHalfASpacingBehindIt) {
 TEST(FrictionExtrusion, ContainerWallBodyStandsInRingsHalfASpacingOutsideTheBore) {
   // The same requirement as the die body's (eq. 92) at the container's cylindrical wall r = R: its
   // thermal particles must sit on rings at R + (l + 1/2) dx. The FSBE quick case: R = 15 mm,
-  // dx = 3 mm, a 5 mm wall (round(5/3) = 2 rings), a 90 deg sector (numerics.symmetry): each ring
+  // dx = 3 mm, here with a 6 mm wall (2 rings; the case's 3 mm makes one), a 90 deg sector (numerics.symmetry): each ring
   // layer holds round(2 pi r / (4 dx)) sites of the sector, a pitch of 2 pi r / sites apart and half a
   // pitch off the cut planes, so the sector's images make whole rings (eq. 30). (The cubic lattice
   // cut at r >= R + dx/2, before 2026-12-06, put the first wall particles a median 1.07 dx from the
   // wall at 2 mm in the AA7075 case.) 1e-9 m is round-off on millimetre coordinates.
-  const fs::path dir = scratch("container_rings");
-  const Result r = sphforge({"run", kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s", "--set",
-                             "process.container_wall_thickness=6 mm"},
-                            dir);
-  ASSERT_EQ(r.code, 0) << describe(r);
-  const vtkSmartPointer<vtkUnstructuredGrid> grid = read_particle_frame(dir / "out" / "particles_000000.vtu");
+  const vtkSmartPointer<vtkUnstructuredGrid> grid =
+      built_fsbe_scene("container_rings", {"process.container_wall_thickness=6 mm"});
+  ASSERT_NE(grid, nullptr);
   vtkDataArray* body = grid->GetPointData()->GetArray("body");
   ASSERT_NE(body, nullptr);
   const double dx = 3e-3, radius = 15e-3, pi = 3.14159265358979323846;
   // The container body: the only body with particles outside the bore above the bottom (z > 0).
-  double container_id = -1.0;
-  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
-    double x[3];
-    grid->GetPoint(i, x);
-    if (x[2] > 0.0 && std::hypot(x[0], x[1]) > radius) container_id = body->GetTuple1(i);
-  }
+  const double container_id =
+      body_of_a_particle(grid, [&](const double* x) { return x[2] > 0.0 && std::hypot(x[0], x[1]) > radius; });
   ASSERT_GE(container_id, 0.0);
   std::map<std::pair<int, long>, std::vector<double>> rings;  // (ring l, height in um) -> polar angles
   for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
