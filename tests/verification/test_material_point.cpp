@@ -303,6 +303,46 @@ TEST(JohnsonCookPoint, TemperatureSofteningAndMeltLimit) {
   }
 }
 
+// Thermal expansion (eq. 17a): at rest (L = 0) a particle dT above the expansion's reference
+// temperature is free of stress at the density rho0 / (1 + 3 alpha dT), and at rho0 it carries the
+// pressure K 3 alpha dT of a fully restrained volume. Isothermal steps and alpha = 0 keep eq. 17.
+// HX220 (friction_drilling.md): alpha 15e-6 1/K, E 210 GPa, nu 0.3; dT = 500 K. Tolerance: round-off
+// of a pressure formed from densities of 7850 kg/m^3 (1e-12 relative, K = 175 GPa: 1e-12 K = 0.2 Pa).
+TEST(JohnsonCookPoint, ThermalExpansionShiftsTheStressFreeDensity) {
+  const double rho0 = 7850.0, E = 210e9, nu = 0.3, alpha = 15e-6, Tr = 293.15, dT = 500.0;
+  const double K = E / (3 * (1 - 2 * nu));
+  const json base = {{"density", rho0}, {"youngs_modulus", E}, {"poisson_ratio", nu}, {"A", 212.2e6},
+                     {"reference_temperature", Tr}, {"melting_temperature", 1773.15}};
+  json expanding = base;
+  expanding["thermal_expansion"] = alpha;
+  Point pt("johnson_cook", expanding);
+  pt.temperature = Tr + dT;
+  pt.step(1e-6, true);  // at rho0: restrained
+  EXPECT_NEAR(pt.pressure, K * 3 * alpha * dT, 1e-12 * K) << "restrained";
+  const double pressure_restrained = pt.pressure;
+  pt.density = rho0 / (1 + 3 * alpha * dT);  // free
+  pt.step(1e-6, true);
+  EXPECT_NEAR(pt.pressure, 0.0, 1e-12 * K) << "free";
+  pt.density = rho0;  // an isothermal step has no temperature, so no thermal strain (eq. 17)
+  pt.step(1e-6, false);
+  EXPECT_EQ(pt.pressure, 0.0);
+  json shifted = expanding;  // stress-free at the particle's own temperature
+  shifted["expansion_reference_temperature"] = Tr + dT;
+  Point at_reference("johnson_cook", shifted);
+  at_reference.temperature = Tr + dT;
+  at_reference.step(1e-6, true);
+  EXPECT_EQ(at_reference.pressure, 0.0);
+  Point without("johnson_cook", base);  // alpha = 0 (the default): eq. 17 exactly
+  without.temperature = Tr + dT;
+  without.density = 1.001 * rho0;
+  without.step(1e-6, true);
+  EXPECT_EQ(without.pressure, K * (without.density - rho0) * (1.0 / rho0));  // eq. 17 as the plugin forms it
+  char line[200];
+  std::snprintf(line, sizeof line, "johnson_cook thermal expansion dT = %.0f K: restrained p = %.6e Pa (K 3 alpha dT = %.6e Pa)",
+                dT, pressure_restrained, K * 3 * alpha * dT);
+  record(line);
+}
+
 // Adiabatic heating (issue 4): 42CrMo4 strained uniaxially (isochoric path) at the reference rate
 // with all plastic heat retained: dT/dt = beta sigma_y epsdot_p / (rho c) (eq. 37). The driver
 // advances T by the material's heat source each step. Expected (issue): without softening

@@ -43,6 +43,15 @@ inline double linear_pressure(double bulk_modulus, double density, double refere
   return bulk_modulus * (density - reference_density) * inverse_reference_density;
 }
 
+/// Eq. 17 with isotropic thermal expansion (eq. 17a): the stress-free density of a particle dT above
+/// the expansion's reference temperature is rho0 / (1 + 3 alpha dT), so
+/// p = K (rho (1 + 3 alpha dT) / rho0 - 1). `volumetric_expansion` is 3 alpha (1/K). A J2 material's
+/// thermal strain is volumetric only, so the pressure is the one place it enters.
+inline double thermal_linear_pressure(double bulk_modulus, double density, double reference_density,
+                                      double inverse_reference_density, double volumetric_expansion, double dT) {
+  return bulk_modulus * (density * (1.0 + volumetric_expansion * dT) - reference_density) * inverse_reference_density;
+}
+
 /// Yield stress after a plastic increment d and its derivative d sigma_y / d d (Pa).
 struct YieldValue {
   double stress;

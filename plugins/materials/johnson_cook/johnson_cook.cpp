@@ -118,6 +118,9 @@ class JohnsonCook final : public Material {
         k1_(p.number("conductivity_slope")),
         c0_(p.number("specific_heat")),
         c1_(p.number("specific_heat_slope")),
+        volumetric_expansion_(3.0 * p.number("thermal_expansion")),
+        T_expansion_(p.number("expansion_reference_temperature") >= 0.0 ? p.number("expansion_reference_temperature")
+                                                                          : T_ref_),
         outputs_(p),
         failure_(p) {
     law_ = {p.number("A"), p.number("B"), p.number("n"), p.number("C"), p.number("reference_strain_rate"), p.number("m")};
@@ -181,6 +184,8 @@ class JohnsonCook final : public Material {
     const double beta = taylor_quinney_, inv_rho0 = 1.0 / rho0_;
     const JohnsonCookLaw law = law_;
     const double* T = b.temperature;  // null when isothermal: the law at T_ref (Theta = 1)
+    // Thermal expansion (eq. 17a) only in a thermal scene and when the case gives alpha > 0.
+    const double expansion = T ? volumetric_expansion_ : 0.0, T_expansion = T_expansion_;
     long long failed = 0;
     // Blocks of particles: the trial states first, then the interleaved returns of the block's
     // plastic particles (plugins/materials/common/j2_plasticity.hpp explains why); the logarithms
@@ -197,7 +202,9 @@ class JohnsonCook final : public Material {
         j2::elastic_predictor(b.velocity_gradient + 9 * i, two_g_dt, s);  // eq. 15
         q[k] = j2::von_mises(s);
         eps[k] = out.plastic_strain[i];
-        b.pressure[i] = j2::linear_pressure(K_, b.density[i], rho0_, inv_rho0);  // eq. 17
+        b.pressure[i] = expansion == 0.0 ? j2::linear_pressure(K_, b.density[i], rho0_, inv_rho0)  // eq. 17
+                                         : j2::thermal_linear_pressure(K_, b.density[i], rho0_, inv_rho0, expansion,
+                                                                       T[i] - T_expansion);  // eq. 17a
       }
       thermal_factors(count, T ? T + first : nullptr, theta, work);
       // eps_p^n for the elastic check (eq. 36 at d = 0).
@@ -272,7 +279,9 @@ class JohnsonCook final : public Material {
   long long failed_returns() const override { return failed_; }
 
  private:
-  double rho0_, taylor_quinney_, T_ref_, T_melt_, k0_, k1_, c0_, c1_, G_ = 0, K_ = 0;
+  double rho0_, taylor_quinney_, T_ref_, T_melt_, k0_, k1_, c0_, c1_;
+  double volumetric_expansion_, T_expansion_;  // 3 alpha (1/K) and the stress-free temperature (K), eq. 17a
+  double G_ = 0, K_ = 0;
   JohnsonCookLaw law_{};
   j2::OptionalOutputs outputs_;
   j2::FailureCriterion failure_;
@@ -300,6 +309,10 @@ const PluginDescriptor& descriptor() {
           ParamSpec::number("conductivity_slope", "W/(m*K)", 0.0, "k1 of k = k0 + k1 Th"),
           ParamSpec::number("specific_heat", "J/(kg*K)", 0.0, "c0 of c = c0 + c1 Th (thermal cases; 0: none)", 0.0),
           ParamSpec::number("specific_heat_slope", "J/(kg*K)", 0.0, "c1 of c = c0 + c1 Th"),
+          ParamSpec::number("thermal_expansion", "1/K", 0.0,
+                            "linear thermal expansion coefficient alpha (thermal cases; 0: none), eq. 17a", 0.0),
+          ParamSpec::number("expansion_reference_temperature", "K", -1.0,
+                            "temperature at which the material is free of thermal strain (-1: reference_temperature)"),
           j2::OptionalOutputs::spec(),
           j2::FailureCriterion::spec(),
       });
