@@ -253,12 +253,10 @@ void write_error_plot(const std::filesystem::path& file, const std::vector<PlotS
   // Data: polyline then markers, series by series.
   // Colour and marker go by the rank among the drawn series (plot_colours), not by the index among
   // all: with many metrics not drawn, two drawn ones 8 apart in the list shared a colour and a marker.
-  const std::vector<std::optional<std::array<int, 3>>> colours = plot_colours(series);
-  std::vector<bool> drawn(series.size(), false);
+  const std::vector<std::optional<std::array<int, 3>>> colours = plot_colours(series);  // none: not drawn
   int rank = 0;
   for (std::size_t i = 0; i < series.size(); ++i) {
     if (!colours[i]) continue;
-    drawn[i] = true;
     std::vector<std::pair<int, int>> px;
     for (const auto& [x, y] : series[i].points)
       if (drawable(x, y))
@@ -296,10 +294,10 @@ void write_error_plot(const std::filesystem::path& file, const std::vector<PlotS
            {70, 70, 70});
   for (std::size_t i = 0; i < series.size(); ++i) {
     const int ly = top - 12 - 24 * static_cast<int>(i);
-    if (drawn[i]) c.text(series[i].name, legend_x + 40, ly, HAlign::Left, VAlign::Centre, 13);
+    if (colours[i]) c.text(series[i].name, legend_x + 40, ly, HAlign::Left, VAlign::Centre, 13);
     else c.text(series[i].name, legend_x + 40, ly, HAlign::Left, VAlign::Centre, 13, 0.0, false, {160, 160, 160});
   }
-  if (std::find(drawn.begin(), drawn.end(), false) != drawn.end())
+  if (std::find(colours.begin(), colours.end(), std::nullopt) != colours.end())
     c.text("grey: not drawn (no error > 0)", legend_x, top - 12 - 24 * static_cast<int>(series.size()), HAlign::Left,
            VAlign::Centre, 12, 0.0, false, {160, 160, 160});
   if (!any)
