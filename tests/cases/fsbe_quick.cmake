@@ -1,4 +1,4 @@
-# CTest (label `cases`): the FSBE CI case (cases/fsbe/brass_wire_quick.json, 3 mm spacing, 90 deg sector,
+# CTest (label `cases`): the FSBE CI case (cases/fsbe/brass_wire_quick.json, 2 mm spacing, 90 deg sector,
 # 2 s of process = 2 mm of plunge) runs to its end, stays quasi-static, plunges as commanded, starts a
 # wire, keeps its interface between room temperature and the brass melting point, and its metrics
 # match the stored reference (cases/fsbe/reference/quick_metrics.json). docs/validation/friction_extrusion.md.
@@ -13,7 +13,7 @@ message(STATUS "status ${status}, peak interface ${t_if} K, tool thermocouple ${
                "wire ${rod} m, max kinetic/work ${ratio}, wall ${wall} s")
 expect_status(completed "the run reaches run.end_time")
 # Quasi-static: the friction-extrusion paper's criterion for its scalings, kinetic energy below 1.4 %
-# (stored run: 0.00084).
+# (stored run: 0.00011).
 if(ratio GREATER 0.014)
   message(FATAL_ERROR "kinetic/work ratio ${ratio} > 0.014")
 endif()
@@ -22,7 +22,7 @@ endif()
 if(disp LESS 0.001998 OR disp GREATER 0.002002)
   message(FATAL_ERROR "die displacement ${disp} m, expected 0.002 m (1 mm/s x 2 s)")
 endif()
-# Material has entered the bore: the wire has started (stored run: 1.57 mm).
+# Material has entered the bore: the wire has started (stored run: 20.1 mm).
 if(NOT rod GREATER 0.0)
   message(FATAL_ERROR "no wire above the tool face (rod_length_m = ${rod})")
 endif()

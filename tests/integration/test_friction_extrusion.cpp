@@ -35,11 +35,13 @@ Result sphforge(const std::vector<std::string>& args, const fs::path& dir) { ret
 
 fs::path scratch(const std::string& name) { return scratch_folder("fe", name); }
 
-/// The FSBE quick case's scene as built (frame 0 of a run stopped after its first step), with
+/// The FSBE quick case's scene as built (frame 0 of a run stopped after its first step) at 3 mm
+/// spacing (the geometry the scene tests count on, whatever the case's own spacing), with
 /// `overrides` ("key=value" for --set), in the scratch folder `name`.
 vtkSmartPointer<vtkUnstructuredGrid> built_fsbe_scene(const std::string& name, const std::vector<std::string>& overrides) {
   const fs::path dir = scratch(name);
-  std::vector<std::string> args = {"run", kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s"};
+  std::vector<std::string> args = {"run",   kFsbeQuick, "--out", "out", "--quiet", "--set", "run.end_time=1e-7 s",
+                                   "--set", "process.particle_spacing=3 mm"};
   for (const std::string& o : overrides) args.insert(args.end(), {"--set", o});
   const Result r = sphforge(args, dir);
   EXPECT_EQ(r.code, 0) << describe(r);
@@ -143,11 +145,11 @@ TEST(FrictionExtrusion, FrictionHeatRateIsTheCoresFrictionHeatOverTheTimeScaling
     ++compared;
   }
   EXPECT_GT(compared, 10);
-  // The contact pass evaluates |f_t| |v_t| with the velocity at the start of the step, the process
-  // with the velocity after it: they differ by dt a_t, measured at most 4.7e-4 relative over the
-  // whole 3 s quick run; 1e-3 bounds that lag, while a wrong scaling (x f or / f) or a wrong
-  // projection would be off by a factor.
-  EXPECT_LT(worst, 1e-3) << compared << " rows";
+  // Both are the contact pass's sum for the die; the process column is that sum x N / f (the quick
+  // case is a whole 360 deg run, N = 1). So they agree to the round-off of the scaling and of
+  // printing 17 digits; a wrong scaling (x f or / f) or a sum that misses contacts (the recomputation
+  // before 2026-12-06 missed the corner ring, 41 % here) is off by far more.
+  EXPECT_LT(worst, 1e-12) << compared << " rows";
 }
 
 TEST(FrictionExtrusion, TimeMeanForceIsTheStepWeightedHistoryMean) {
@@ -268,6 +270,53 @@ TEST(FrictionExtrusion, ContainerWallBodyStandsInRingsHalfASpacingOutsideTheBore
   }
   EXPECT_EQ(ring_numbers, (std::set<int>{0, 1}));
   std::printf("container wall: %zu ring layers, rings at R + dx/2 and R + 3 dx/2\n", rings.size());
+}
+
+TEST(FrictionExtrusion, BilletSideStandsHalfASpacingInsideTheContainerWall) {
+  // The billet must fill the bore: its side touches the wall at r = R as its bottom touches z = 0,
+  // that is its outermost particles stand dx/2 inside (the contact's reach, eq. 11), on one ring per
+  // layer at R - dx/2 with round(2 pi r / (4 dx)) sites in the 90 deg sector, half a pitch off the cut
+  // planes (eq. 30), and the cubic lattice inside r <= R - dx. FSBE quick case: R = 15 mm, dx = 3 mm.
+  // (The lattice cut at R - dx/2 alone, before 2026-12-06, left its outermost particles a median
+  // 1.02 dx inside the wall at 2 mm, out of the contact's reach, and held 76 % of this billet's volume.)
+  // Volume: each layer's count x dx^3 within 3 % of the quarter disc pi R^2 / 4 x dx; the lattice's
+  // ragged cut at five spacings across the radius makes +1.9 %. 1e-9 m is round-off on millimetres.
+  const vtkSmartPointer<vtkUnstructuredGrid> grid = built_fsbe_scene("billet_rim", {});
+  ASSERT_NE(grid, nullptr);
+  vtkDataArray* body = grid->GetPointData()->GetArray("body");
+  ASSERT_NE(body, nullptr);
+  const double dx = 3e-3, radius = 15e-3, z_face = 39e-3, pi = 3.14159265358979323846;
+  const double billet_id = body_of_a_particle(grid, [&](const double* x) {
+    return x[2] > 0.0 && x[2] < z_face && std::hypot(x[0], x[1]) < radius - 1e-9;
+  });
+  ASSERT_GE(billet_id, 0.0);
+  std::map<long, int> per_layer;                  // height in um -> particles
+  std::map<long, std::vector<double>> rim;        // height in um -> polar angles on the rim ring
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
+    if (body->GetTuple1(i) != billet_id) continue;
+    double x[3];
+    grid->GetPoint(i, x);
+    const long layer = std::lround(x[2] * 1e6);
+    ++per_layer[layer];
+    const double r = std::hypot(x[0], x[1]);
+    if (r <= radius - dx + 1e-9) continue;  // the lattice inside
+    EXPECT_NEAR(r, radius - 0.5 * dx, 1e-9) << "billet particle at (" << x[0] << ", " << x[1] << ", " << x[2] << ")";
+    rim[layer].push_back(std::atan2(x[1], x[0]));
+  }
+  ASSERT_EQ(per_layer.size(), 13u);
+  ASSERT_EQ(rim.size(), per_layer.size()) << "every layer has its rim ring";
+  const long sites = 4 * std::max(1L, std::lround(2.0 * pi * (radius - 0.5 * dx) / (4.0 * dx)));
+  for (auto& [layer, angles] : rim) {
+    ASSERT_EQ(static_cast<long>(angles.size()), sites / 4) << "rim ring at z = " << layer << " um";
+    std::sort(angles.begin(), angles.end());
+    for (std::size_t m = 0; m < angles.size(); ++m)
+      EXPECT_NEAR(angles[m], (m + 0.5) * 2.0 * pi / static_cast<double>(sites), 1e-9) << "z = " << layer << " um";
+  }
+  const double quarter_disc = 0.25 * pi * radius * radius * dx;
+  for (const auto& [layer, count] : per_layer)
+    EXPECT_NEAR(count * dx * dx * dx / quarter_disc, 1.0, 0.03) << "layer at z = " << layer << " um";
+  std::printf("billet: %d particles per layer (quarter disc %.2f dx^2), %ld on the rim ring at R - dx/2\n",
+              per_layer.begin()->second, quarter_disc / (dx * dx * dx), sites / 4);
 }
 
 }  // namespace

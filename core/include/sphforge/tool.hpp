@@ -154,6 +154,7 @@ class RigidTool {
   Eigen::Vector3d reaction_force_N = Eigen::Vector3d::Zero();
   double reaction_torque_Nm = 0.0;   ///< about +z
   double power_W = 0.0;              ///< power the tool delivered to the workpiece in the last step
+  double friction_heat_W = 0.0;      ///< sum |f_t| |v_t| over its contacts in the last step (eq. 18e)
   double work_J = 0.0;               ///< accumulated work delivered to the workpiece
 
   /// Called by the core at the start of a step [t, t + dt]: a scheduled velocity becomes the

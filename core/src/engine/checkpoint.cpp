@@ -95,6 +95,7 @@ json Simulation::checkpoint_state(double wall_time_s) const {
                      {"reaction_force_N", {t.reaction_force_N.x(), t.reaction_force_N.y(), t.reaction_force_N.z()}},
                      {"reaction_torque_Nm", t.reaction_torque_Nm},
                      {"power_W", t.power_W},
+                     {"friction_heat_W", t.friction_heat_W},
                      {"work_J", t.work_J}});
 
   // Every signal: the measured ones are the process's last measurement (which the controllers read
@@ -213,6 +214,7 @@ void Simulation::restore(const fs::path& checkpoint) {
       t.reaction_force_N = Eigen::Vector3d(f.at(0).get<double>(), f.at(1).get<double>(), f.at(2).get<double>());
       t.reaction_torque_Nm = s.at("reaction_torque_Nm").get<double>();
       t.power_W = s.at("power_W").get<double>();
+      t.friction_heat_W = s.value("friction_heat_W", 0.0);  // absent from checkpoints before 2026-12-06
       t.work_J = s.at("work_J").get<double>();
     }
 

@@ -133,6 +133,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     tool.reaction_force_N.setZero();
     tool.reaction_torque_Nm = 0.0;
     tool.power_W = 0.0;
+    tool.friction_heat_W = 0.0;
     const ContactLaw* law = t < laws_.size() ? laws_[t] : nullptr;
     // The law's per-contact memory (eq. 18b), kept for the touching particles by id.
     const bool keeps_history = law != nullptr && law->needs_history();
@@ -325,6 +326,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     tool.reaction_force_N = Eigen::Vector3d(rx, ry, rz);
     tool.reaction_torque_Nm = torque;
     tool.power_W = power;
+    tool.friction_heat_W = heat;
     st.contacts = nc;
     st.penetration_mean_m = gap_sum / static_cast<double>(nc);
     st.penetration_max_m = gap_max;

@@ -27,6 +27,18 @@ std::vector<double> lengths(const ParamValues& p, const std::string& name) {
   return p.quantities(name, v.size(), "m");
 }
 
+/// Appends one ring of particle sites at radius r and height z: about 2 pi r / dx sites, a multiple
+/// of the sector count and half a pitch off the cut planes, so that a 360/N deg sector maps onto
+/// itself (theory eq. 30).
+void append_ring(std::vector<Vec>& sites, double r, double z, double dx, int sectors) {
+  const long per_sector = std::max(1L, std::lround(2.0 * std::numbers::pi * r / (dx * sectors)));
+  const long count = per_sector * sectors;
+  for (long m = 0; m < count; ++m) {
+    const double angle = 2.0 * std::numbers::pi * (m + 0.5) / static_cast<double>(count);
+    sites.emplace_back(r * std::cos(angle), r * std::sin(angle), z);
+  }
+}
+
 class FrictionExtrusion final : public Process {
  public:
   explicit FrictionExtrusion(const ParamValues& p) : file_(p.file()) {
@@ -87,15 +99,21 @@ class FrictionExtrusion final : public Process {
     const double dx = spacing_;
     const int nr = static_cast<int>(std::ceil((radius_ + wall_thickness_) / dx)) + 1;
     // Billet: cubic lattice with half-integer sites about the axis (maps onto itself in a 90 or
-    // 180 deg sector, theory eq. 30), dx/2 from the container bottom and the die face.
+    // 180 deg sector, theory eq. 30), dx/2 from the container bottom and the die face, inside
+    // r <= R - dx; around it one ring per layer at r = R - dx/2, so that the billet's side touches
+    // the container wall as its bottom and top touch theirs. The lattice cut at R - dx/2 alone stood
+    // a median 1.02 dx inside the wall (2 mm): out of the contact's reach (dx/2, eq. 11), so the
+    // side wall held neither torque nor heat, and the billet had 8.7 % too little mass.
     const int nz = static_cast<int>(std::floor(height_ / dx + 1e-9));
     std::vector<Vec> billet;
-    for (int k = 0; k < nz; ++k)
+    for (int k = 0; k < nz; ++k) {
       for (int j = -nr; j < nr; ++j)
         for (int i = -nr; i < nr; ++i) {
           const Vec x((i + 0.5) * dx, (j + 0.5) * dx, (k + 0.5) * dx);
-          if (std::hypot(x.x(), x.y()) <= radius_ - 0.5 * dx + 1e-9 * dx) billet.push_back(x);
+          if (std::hypot(x.x(), x.y()) <= radius_ - dx + 1e-9 * dx) billet.push_back(x);
         }
+      append_ring(billet, radius_ - 0.5 * dx, (k + 0.5) * dx, dx, sectors_);
+    }
     scene.add_body("billet", billet, dx);
     face_z0_ = nz * dx;
 
@@ -153,16 +171,8 @@ class FrictionExtrusion final : public Process {
     // r = R + dx/2 stood a median 1.07 dx from the wall (2 mm, AA7075 case), not the dx/2 of eq. 92.
     const int nw = static_cast<int>(std::lround(wall_thickness_ / dx));
     const int nt = static_cast<int>(std::floor(top / dx));
-    for (int l = 0; l < nw; ++l) {
-      const double r = radius_ + (l + 0.5) * dx;
-      const long per_sector = std::max(1L, std::lround(2.0 * std::numbers::pi * r / (dx * sectors_)));
-      const long sites = per_sector * sectors_;
-      for (int k = 0; k < nt; ++k)
-        for (long m = 0; m < sites; ++m) {
-          const double angle = 2.0 * std::numbers::pi * (m + 0.5) / static_cast<double>(sites);
-          container_body.emplace_back(r * std::cos(angle), r * std::sin(angle), (k + 0.5) * dx);
-        }
-    }
+    for (int l = 0; l < nw; ++l)
+      for (int k = 0; k < nt; ++k) append_ring(container_body, radius_ + (l + 0.5) * dx, (k + 0.5) * dx, dx, sectors_);
     scene.add_tool_body("die_body", std::move(die_body), dx, "die_steel", "die");
     scene.add_tool_body("container_body", std::move(container_body), dx, "container_steel", "container");
   }
@@ -243,8 +253,6 @@ class FrictionExtrusion final : public Process {
     index_of_id_.clear();  // forces the first lookup
     distance_.resize(ctx.mechanical_count);
     normal_.resize(3 * ctx.mechanical_count);
-    container_distance_.resize(ctx.mechanical_count);
-    container_normal_.resize(3 * ctx.mechanical_count);
     refresh(f);
   }
 
@@ -284,7 +292,6 @@ class FrictionExtrusion final : public Process {
     const double face = die.axial_offset_m;
     const std::size_t n = ctx.mechanical_count;
     const double* x = f.f64(field::position);
-    const double* v = f.f64(field::velocity);
     const double* m = f.f64(field::mass);
     const double* rho = f.f64(field::density);
     const double* s = f.f64(field::deviatoric_stress);
@@ -293,14 +300,9 @@ class FrictionExtrusion final : public Process {
     const double* rate = f.f64("plastic_strain_rate");
     double* Z = f.f64("zener_hollomon");
     die.signed_distance(n, x, distance_.data(), normal_.data(), spacing_);
-    // The contact_force field sums every tool's force on a particle: where a particle touches the
-    // container too (the corner ring), the container's normal force would count as die friction, so
-    // those particles are left out of eq. 104 (the core's die_friction_heat_W has them, per tool).
-    (*ctx.tools)[container_].signed_distance(n, x, container_distance_.data(), container_normal_.data(), spacing_);
-    const Vec vz = die.surface_velocity(Vec::Zero());  // axial part (the spin adds w x r below)
-    const double w = die.angular_velocity_rad_s, q_over_r = activation_ / kGasConstant, dx = spacing_;
-    double zmax = -std::numeric_limits<double>::infinity(), t_sum = 0.0, t_count = 0.0, q_f = 0.0, q_p = 0.0;
-#pragma omp parallel for reduction(max : zmax) reduction(+ : t_sum, t_count, q_f, q_p) schedule(static)
+    const double q_over_r = activation_ / kGasConstant, dx = spacing_;
+    double zmax = -std::numeric_limits<double>::infinity(), t_sum = 0.0, t_count = 0.0, q_p = 0.0;
+#pragma omp parallel for reduction(max : zmax) reduction(+ : t_sum, t_count, q_p) schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       const double* xi = x + 3 * i;
       zmax = std::max(zmax, xi[2]);
@@ -310,30 +312,20 @@ class FrictionExtrusion final : public Process {
       q_p += beta_ * std::sqrt(1.5 * j2) * rate[i] * m[i] / rho[i];
       // Zener-Hollomon parameter (eq. 106), 0 where the material does not flow.
       Z[i] = rate[i] > 0.0 ? rate[i] * std::exp(q_over_r / T[i]) : 0.0;
-      // Die contacts: within the contact distance dx/2 of the die, pressed (eq. 103-104).
+      // Die contacts: within the contact distance dx/2 of the die, pressed (eq. 103).
       const double d = distance_[i];
       if (!(d < 0.5 * dx * (1.0 + 1e-6))) continue;
       const double* fi = fc + 3 * i;
       if (fi[0] * fi[0] + fi[1] * fi[1] + fi[2] * fi[2] == 0.0) continue;
       t_sum += T[i];
       t_count += 1.0;
-      if (container_distance_[i] < 0.5 * dx * (1.0 + 1e-6)) continue;
-      const double* nn = normal_.data() + 3 * i;
-      const double vr[3] = {v[3 * i] + w * xi[1] - vz[0], v[3 * i + 1] - w * xi[0] - vz[1], v[3 * i + 2] - vz[2]};
-      const double vn = vr[0] * nn[0] + vr[1] * nn[1] + vr[2] * nn[2];
-      const double fn = fi[0] * nn[0] + fi[1] * nn[1] + fi[2] * nn[2];
-      double vt2 = 0.0, ft2 = 0.0;
-      for (int c = 0; c < 3; ++c) {
-        vt2 += (vr[c] - vn * nn[c]) * (vr[c] - vn * nn[c]);
-        ft2 += (fi[c] - fn * nn[c]) * (fi[c] - fn * nn[c]);
-      }
-      q_f += std::sqrt(ft2 * vt2);  // eq. 18e
     }
     contacts_ = sectors_ * t_count;
     interface_T_ = t_count > 0.0 ? t_sum / t_count : std::numeric_limits<double>::quiet_NaN();
-    // Heat rates per second of process time, full body: friction |f_t| |v_t| runs f times faster in
-    // the scaled scene (eq. 104); the plastic rate is already physical (eq. 105).
-    friction_heat_ = sectors_ * q_f / fs;
+    // Heat rates per second of process time, full body: the die's friction heat sum |f_t| |v_t| from
+    // the contact pass runs f times faster in the scaled scene (eq. 104); the plastic rate is already
+    // physical (eq. 105).
+    friction_heat_ = sectors_ * die.friction_heat_W / fs;
     plastic_heat_ = sectors_ * q_p;
     rod_length_ = std::max(0.0, zmax + 0.5 * dx - face);  // eq. (107)
     for (Thermocouple& tc : thermocouples_) {
@@ -549,7 +541,7 @@ class FrictionExtrusion final : public Process {
   std::int64_t die_tc_id_ = -1;
   std::vector<std::int64_t> cooled_ids_;
   std::vector<std::size_t> cooled_index_, index_of_id_;
-  std::vector<double> distance_, normal_, container_distance_, container_normal_;
+  std::vector<double> distance_, normal_;
   std::vector<Sample> samples_;
   double next_sample_ = 0.0;
   // Commands (process units) and measurements.
