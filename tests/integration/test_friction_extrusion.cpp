@@ -1,7 +1,7 @@
 // The friction_extrusion process end to end (docs/processes/friction_extrusion.md): its user errors
-// are input errors (exit code 2, file and JSON pointer), and its friction heat rate (docs/theory.md
-// eq. 104, recomputed from the particles' contact forces) agrees with the core's per-tool friction
-// heat (eq. 18e) divided by the time scaling. The steady-state checks of the bundled quick case are
+// are input errors (exit code 2, file and JSON pointer), its friction heat rate (docs/theory.md
+// eq. 104) is the core's per-tool friction heat (eq. 18e) divided by the time scaling, and its scene
+// stands where eqs. 92 and 99a put it. The steady-state checks of the bundled quick case are
 // the CTest case.friction_extrusion.aa7075_pid_300kN_quick (tests/cases/fe_quick.cmake).
 #include <gtest/gtest.h>
 
@@ -290,8 +290,8 @@ TEST(FrictionExtrusion, BilletSideStandsHalfASpacingInsideTheContainerWall) {
     return x[2] > 0.0 && x[2] < z_face && std::hypot(x[0], x[1]) < radius - 1e-9;
   });
   ASSERT_GE(billet_id, 0.0);
-  std::map<long, int> per_layer;                  // height in um -> particles
-  std::map<long, std::vector<double>> rim;        // height in um -> polar angles on the rim ring
+  std::map<long, int> per_layer;            // height in um -> particles
+  std::map<long, std::vector<double>> rim;  // height in um -> polar angles on the rim ring
   for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
     if (body->GetTuple1(i) != billet_id) continue;
     double x[3];
