@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""Where the friction-drilled hole's material ends up: reads the first and last particle frames of a
+`sphforge run` of the friction_drilling process, follows the sheet particles by id, and counts those
+that started inside the drill's radius (the hole) by where they are at the end: above the upper
+surface (upper bushing), still inside the sheet's thickness, below the lower surface in the bushing
+band (lower bushing), or below it inside the drill's radius or far below the sheet (a cap pushed out
+ahead of the tip, loose debris). docs/validation/friction_drilling.md, section "Bond failure and the
+bushing", uses it.
+
+    scripts/fd_material_budget.py RUN [--drill-radius 1.85e-3] [--band-outer 3.5e-3]
+                                      [--thickness 1.2e-3] [--debris-depth 4e-3]
+
+Lengths in m; the sheet's upper surface is z = 0 (the process's frame). Counts are of the particles in
+the run (a sector run counts its sector). Needs python3-vtk9 and numpy (scripts/run_output.py).
+"""
+import argparse
+import glob
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from run_output import read_frame  # noqa: E402
+
+
+def by_id(frame):
+    order = np.argsort(frame["id"])
+    return {k: v[order] for k, v in frame.items()}
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("run")
+    p.add_argument("--drill-radius", type=float, default=1.85e-3, help="m (the M4 drill's cylinder)")
+    p.add_argument("--band-outer", type=float, default=3.5e-3, help="m (bushing_outer_radius of eq. 127)")
+    p.add_argument("--thickness", type=float, default=1.2e-3, help="m (sheet_thickness)")
+    p.add_argument("--debris-depth", type=float, default=4e-3,
+                   help="m below the upper surface beyond which a particle counts as debris")
+    a = p.parse_args()
+
+    frames = sorted(glob.glob(os.path.join(a.run, "particles_*.vtu")))
+    if len(frames) < 2:
+        sys.exit(f"{a.run}: needs at least two particle frames")
+    first, _ = read_frame(frames[0])
+    last, t = read_frame(frames[-1])
+    f0, f1 = by_id(first), by_id(last)
+    if not np.array_equal(f0["id"], f1["id"]):
+        sys.exit("the first and last frames hold different particles")
+    sheet = f0["body"] == 0
+    r0 = np.hypot(f0["position"][:, 0], f0["position"][:, 1])
+    r1 = np.hypot(f1["position"][:, 0], f1["position"][:, 1])
+    z1 = f1["position"][:, 2]
+    hole = sheet & (r0 < a.drill_radius)
+    band = (r1 >= a.drill_radius) & (r1 <= a.band_outer)
+    below = z1 < -a.thickness
+    debris = below & ((r1 < a.drill_radius) | (z1 <= -a.debris_depth))
+    places = [
+        ("above the upper surface (upper bushing)", z1 > 0.0),
+        ("inside the sheet's thickness, in the band", (z1 <= 0.0) & ~below & band),
+        ("inside the sheet's thickness, outside the band", (z1 <= 0.0) & ~below & ~band),
+        ("below the sheet, in the band (lower bushing)", below & band & ~debris),
+        ("below the sheet, outside the band", below & ~band & ~debris),
+        ("cap or debris (inside the drill radius, or deeper)", debris),
+    ]
+    print(f"{frames[-1]} (t = {t:.6g} s): {hole.sum()} sheet particles started inside r < {a.drill_radius * 1e3:.3g} mm")
+    print(f"{'where at the end':52s} {'from the hole':>14s} {'share':>7s} {'all sheet':>10s}")
+    for name, where in places:
+        n = int(np.sum(hole & where))
+        print(f"{name:52s} {n:14d} {n / max(hole.sum(), 1):7.1%} {int(np.sum(sheet & where)):10d}")
+    # The lower bushing's wall by depth: its particles' radial extent, plus one spacing for the
+    # half spacing each particle reaches beyond its centre.
+    dx = float(np.median(np.cbrt(f0["mass"][sheet] / f0["density"][sheet])))
+    wall = sheet & below & band & ~debris
+    print(f"lower bushing wall by depth below the lower surface (dx = {dx * 1e3:.3g} mm):")
+    depth = -a.thickness - z1
+    for lo in np.arange(0.0, depth[wall].max() + a.thickness / 3, a.thickness / 3) if wall.any() else []:
+        m = wall & (depth >= lo) & (depth < lo + a.thickness / 3)
+        if m.any():
+            print(f"  {lo * 1e3:4.2f}-{(lo + a.thickness / 3) * 1e3:4.2f} mm: {int(m.sum()):5d} particles, "
+                  f"r {r1[m].min() * 1e3:.2f}-{r1[m].max() * 1e3:.2f} mm, wall {(r1[m].max() - r1[m].min() + dx) * 1e3:.2f} mm")
+
+
+if __name__ == "__main__":
+    main()
