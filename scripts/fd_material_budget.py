@@ -9,6 +9,11 @@ bushing", uses it.
 
     scripts/fd_material_budget.py RUN [--drill-radius 1.85e-3] [--band-outer 3.5e-3]
                                       [--thickness 1.2e-3] [--debris-depth 4e-3]
+                                      [--route K [--time-scaling 100]]
+
+--route K also prints, for every K-th frame, how many of the hole's particles are above the sheet,
+still in the hole, pushed sideways into the sheet, below the sheet outside the drill's radius, and
+below it inside that radius (a dome or cap ahead of the tip).
 
 Lengths in m; the sheet's upper surface is z = 0 (the process's frame). Counts are of the particles in
 the run (a sector run counts its sector). Needs python3-vtk9 and numpy (scripts/run_output.py).
@@ -37,6 +42,10 @@ def main():
     p.add_argument("--thickness", type=float, default=1.2e-3, help="m (sheet_thickness)")
     p.add_argument("--debris-depth", type=float, default=4e-3,
                    help="m below the upper surface beyond which a particle counts as debris")
+    p.add_argument("--route", type=int, default=0, metavar="K",
+                   help="also print, for every K-th frame, where the hole's particles are then")
+    p.add_argument("--time-scaling", type=float, default=100.0,
+                   help="numerics.time_scaling of the run, to print process time in the route")
     a = p.parse_args()
 
     frames = sorted(glob.glob(os.path.join(a.run, "particles_*.vtu")))
@@ -68,6 +77,19 @@ def main():
     for name, where in places:
         n = int(np.sum(hole & where))
         print(f"{name:52s} {n:14d} {n / max(hole.sum(), 1):7.1%} {int(np.sum(sheet & where)):10d}")
+    if a.route > 0:
+        print(f"route of the hole's particles (process time = simulated time x {a.time_scaling:g}):")
+        print(f"{'process t (s)':>13s} {'above':>6s} {'in the hole':>12s} {'sheet, r>=R':>12s} {'below, r>=R':>12s} {'below, r<R':>11s}")
+        for path in frames[:: a.route] + ([frames[-1]] if (len(frames) - 1) % a.route else []):
+            frame, tf = read_frame(path)
+            fk = by_id(frame)
+            rk = np.hypot(fk["position"][:, 0], fk["position"][:, 1])
+            zk = fk["position"][:, 2]
+            inside, under = rk < a.drill_radius, zk < -a.thickness
+            within = (zk <= 0.0) & ~under
+            counts = [hole & (zk > 0.0), hole & within & inside, hole & within & ~inside, hole & under & ~inside,
+                      hole & under & inside]
+            print(f"{tf * a.time_scaling:13.2f} " + " ".join(f"{int(c.sum()):{w}d}" for c, w in zip(counts, (6, 12, 12, 12, 11))))
     # The lower bushing's wall by depth: its particles' radial extent, plus one spacing for the
     # half spacing each particle reaches beyond its centre.
     dx = float(np.median(np.cbrt(f0["mass"][sheet] / f0["density"][sheet])))
