@@ -13,7 +13,8 @@ bushing", uses it.
 
 --route K also prints, for every K-th frame, how many of the hole's particles are above the sheet,
 still in the hole, pushed sideways into the sheet, below the sheet outside the drill's radius, and
-below it inside that radius (a dome or cap ahead of the tip).
+below it inside that radius (a dome or cap ahead of the tip); and how far the upper surface near the
+hole has moved (third-highest particle per ring, against its start).
 
 Lengths in m; the sheet's upper surface is z = 0 (the process's frame). Counts are of the particles in
 the run (a sector run counts its sector). Needs python3-vtk9 and numpy (scripts/run_output.py).
@@ -79,7 +80,8 @@ def main():
         print(f"{name:52s} {n:14d} {n / max(hole.sum(), 1):7.1%} {int(np.sum(sheet & where)):10d}")
     if a.route > 0:
         print(f"route of the hole's particles (process time = simulated time x {a.time_scaling:g}):")
-        print(f"{'process t (s)':>13s} {'above':>6s} {'in the hole':>12s} {'sheet, r>=R':>12s} {'below, r>=R':>12s} {'below, r<R':>11s}")
+        print(f"{'process t (s)':>13s} {'above':>6s} {'in the hole':>12s} {'sheet, r>=R':>12s} {'below, r>=R':>12s} "
+              f"{'below, r<R':>11s}  upper surface, r = R .. R + 2.65 mm (mm)")
         for path in frames[:: a.route] + ([frames[-1]] if (len(frames) - 1) % a.route else []):
             frame, tf = read_frame(path)
             fk = by_id(frame)
@@ -89,7 +91,17 @@ def main():
             within = (zk <= 0.0) & ~under
             counts = [hole & (zk > 0.0), hole & within & inside, hole & within & ~inside, hole & under & ~inside,
                       hole & under & inside]
-            print(f"{tf * a.time_scaling:13.2f} " + " ".join(f"{int(c.sum()):{w}d}" for c, w in zip(counts, (6, 12, 12, 12, 11))))
+            # The upper surface near the hole: the third-highest sheet particle centre in rings of
+            # 0.4-0.5 mm (one stray particle does not set it, as in eq. 127), each against its start.
+            sheet_k = fk["body"] == 0
+            rings = a.drill_radius + np.array([0.0, 0.4, 0.8, 1.2, 1.65, 2.15, 2.65]) * 1e-3
+            tops = []
+            for lo, hi in zip(rings[:-1], rings[1:]):
+                zr = np.sort(zk[sheet_k & (rk >= lo) & (rk < hi) & (zk > -a.thickness - a.debris_depth)])
+                zr0 = np.sort(f0["position"][:, 2][sheet & (r0 >= lo) & (r0 < hi)])
+                tops.append((zr[-3] - zr0[-3]) * 1e3 if len(zr) >= 3 and len(zr0) >= 3 else float("nan"))
+            print(f"{tf * a.time_scaling:13.2f} " + " ".join(f"{int(c.sum()):{w}d}" for c, w in zip(counts, (6, 12, 12, 12, 11)))
+                  + "  " + " ".join(f"{v:+.2f}" for v in tops))
     # The lower bushing's wall by depth: its particles' radial extent, plus one spacing for the
     # half spacing each particle reaches beyond its centre.
     dx = float(np.median(np.cbrt(f0["mass"][sheet] / f0["density"][sheet])))
