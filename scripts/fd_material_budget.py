@@ -27,12 +27,12 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_output import read_frame  # noqa: E402
+from run_output import frame_by_id, read_frame  # noqa: E402
 
 
-def by_id(frame):
-    order = np.argsort(frame["id"])
-    return {k: v[order] for k, v in frame.items()}
+def third_highest(z):
+    """The third-highest of z (one stray particle does not set a surface), NaN with fewer than three."""
+    return np.sort(z)[-3] if len(z) >= 3 else float("nan")
 
 
 def main():
@@ -54,7 +54,7 @@ def main():
         sys.exit(f"{a.run}: needs at least two particle frames")
     first, _ = read_frame(frames[0])
     last, t = read_frame(frames[-1])
-    f0, f1 = by_id(first), by_id(last)
+    f0, f1 = frame_by_id(first), frame_by_id(last)
     if not np.array_equal(f0["id"], f1["id"]):
         sys.exit("the first and last frames hold different particles")
     sheet = f0["body"] == 0
@@ -82,24 +82,24 @@ def main():
         print(f"route of the hole's particles (process time = simulated time x {a.time_scaling:g}):")
         print(f"{'process t (s)':>13s} {'above':>6s} {'in the hole':>12s} {'sheet, r>=R':>12s} {'below, r>=R':>12s} "
               f"{'below, r<R':>11s}  upper surface, r = R .. R + 2.65 mm (mm)")
+        # The upper surface near the hole: the third-highest sheet particle centre in rings of
+        # 0.4-0.5 mm (one stray particle does not set it, as in eq. 127), each against its start.
+        rings = a.drill_radius + np.array([0.0, 0.4, 0.8, 1.2, 1.65, 2.15, 2.65]) * 1e-3
+        ring_pairs = list(zip(rings[:-1], rings[1:]))
+        z0 = f0["position"][:, 2]
+        tops0 = [third_highest(z0[sheet & (r0 >= lo) & (r0 < hi)]) for lo, hi in ring_pairs]
         for path in frames[:: a.route] + ([frames[-1]] if (len(frames) - 1) % a.route else []):
             frame, tf = read_frame(path)
-            fk = by_id(frame)
+            fk = frame_by_id(frame)
             rk = np.hypot(fk["position"][:, 0], fk["position"][:, 1])
             zk = fk["position"][:, 2]
             inside, under = rk < a.drill_radius, zk < -a.thickness
             within = (zk <= 0.0) & ~under
             counts = [hole & (zk > 0.0), hole & within & inside, hole & within & ~inside, hole & under & ~inside,
                       hole & under & inside]
-            # The upper surface near the hole: the third-highest sheet particle centre in rings of
-            # 0.4-0.5 mm (one stray particle does not set it, as in eq. 127), each against its start.
-            sheet_k = fk["body"] == 0
-            rings = a.drill_radius + np.array([0.0, 0.4, 0.8, 1.2, 1.65, 2.15, 2.65]) * 1e-3
-            tops = []
-            for lo, hi in zip(rings[:-1], rings[1:]):
-                zr = np.sort(zk[sheet_k & (rk >= lo) & (rk < hi) & (zk > -a.thickness - a.debris_depth)])
-                zr0 = np.sort(f0["position"][:, 2][sheet & (r0 >= lo) & (r0 < hi)])
-                tops.append((zr[-3] - zr0[-3]) * 1e3 if len(zr) >= 3 and len(zr0) >= 3 else float("nan"))
+            near = sheet & (zk > -a.thickness - a.debris_depth)
+            tops = [(third_highest(zk[near & (rk >= lo) & (rk < hi)]) - top0) * 1e3
+                    for (lo, hi), top0 in zip(ring_pairs, tops0)]
             print(f"{tf * a.time_scaling:13.2f} " + " ".join(f"{int(c.sum()):{w}d}" for c, w in zip(counts, (6, 12, 12, 12, 11)))
                   + "  " + " ".join(f"{v:+.2f}" for v in tops))
     # The lower bushing's wall by depth: its particles' radial extent, plus one spacing for the

@@ -47,7 +47,7 @@ import re
 
 import numpy as np
 
-from run_output import load_history, read_frame
+from run_output import frame_by_id, load_history, read_frame
 
 
 def frames_in_window(run, history, u0, u1):
@@ -107,8 +107,8 @@ def main():
     for u, p_ex, path, time in frames:
         f, _ = read_frame(path)
         if a.yield_stress:
-            order = np.argsort(f["id"])
-            state = (time, f["id"][order], f["plastic_strain"][order], (f["mass"] / f["density"])[order], f["position"][order, 2])
+            g = frame_by_id(f)
+            state = (time, g["id"], g["plastic_strain"], g["mass"] / g["density"], g["position"][:, 2])
             if previous is not None and np.array_equal(previous[1], state[1]):
                 work = 0.5 * (state[3] + previous[3]) * (state[2] - previous[2])  # V d(eps_p)
                 above = 0.5 * (state[4] + previous[4]) > z_top  # where the particle was mid-interval

@@ -1,6 +1,7 @@
 """Reading a `sphforge run` output folder (docs: DESIGN output contract) from the scripts here:
 history.csv as columns and one particles_NNNNNN.vtu frame as arrays. Import it from a script in this
-folder (`from run_output import load_history, read_frame`); the frame reader needs python3-vtk9 and numpy.
+folder (`from run_output import load_history, read_frame, frame_by_id`); the frame reader needs
+python3-vtk9 and numpy.
 """
 import csv
 
@@ -28,3 +29,12 @@ def read_frame(path):
     fields["position"] = vtk_to_numpy(grid.GetPoints().GetData())
     time = grid.GetFieldData().GetArray("TimeValue")
     return fields, float(time.GetValue(0))
+
+
+def frame_by_id(fields):
+    """The arrays of a frame from read_frame, reordered by the particle id, so that two frames of one
+    run line up particle by particle (the core reorders particles for locality between frames)."""
+    import numpy as np
+
+    order = np.argsort(fields["id"])
+    return {k: v[order] for k, v in fields.items()}
