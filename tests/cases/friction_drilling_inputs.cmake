@@ -43,3 +43,15 @@ expect_check(2 "hx220_m4_quick.json at /process/sheet_far_field_radius: choose o
              "${CASES}/hx220_m4_quick.json" --set "process.clamp_temperature=293.15 K")
 expect_check(0 "is valid" "${CASES}/hx220_m4_quick.json" --set "process.clamp_temperature=293.15 K"
              --set "process.sheet_far_field_radius=0 m")
+# The refined centre (eq. 121c): the paper's 0.4 / 0.2 mm case is valid; a fine spacing that does not
+# divide the coarse one, one coarser than it, or a refined centre in a sector are input errors.
+expect_check(0 "is valid: 9016 particles" "${CASES}/hx220_m4_refined.json")
+expect_check(2 "hx220_m4_quick.json at /process/refined_spacing: particle_spacing must be a whole multiple"
+             "${CASES}/hx220_m4_quick.json" --set "process.refined_diameter=5 mm" --set "process.refined_spacing=0.15 mm")
+expect_check(2 "hx220_m4_quick.json at /process/refined_spacing: must be positive and finer"
+             "${CASES}/hx220_m4_quick.json" --set "process.refined_diameter=5 mm")
+expect_check(2 "hx220_m4.json at /process/refined_diameter: a refined centre needs the full disc"
+             "${CASES}/hx220_m4.json" --set "process.refined_diameter=5 mm" --set "process.refined_spacing=0.1 mm")
+# Past the core's own check: several spacings in a symmetry sector are refused (theory section 19).
+expect_check(2 "hx220_m4_refined.json at /numerics/symmetry: a symmetry sector is not implemented for particles of several spacings"
+             "${CASES}/hx220_m4_refined.json" --set "numerics.symmetry={\"sector\":{\"angle\":\"90 deg\"}}")

@@ -80,3 +80,77 @@ TEST(FrictionDrilling, DrillBodyLayersSitAtHalfSpacingsBehindTheProfile) {
 }
 
 }  // namespace
+
+namespace {
+struct SheetCells {
+  double volume = 0.0;  // sum of m / rho over the sheet
+  int fine = 0, coarse = 0, drill = 0;
+  double fine_r_max = 0.0, coarse_r_min = 1e300, drill_h_min = 1e300, drill_h_max = 0.0;
+};
+
+SheetCells read_sheet(const fs::path& frame, double fine_h) {
+  const vtkSmartPointer<vtkUnstructuredGrid> grid = read_particle_frame(frame);
+  vtkDataArray* body = grid->GetPointData()->GetArray("body");
+  vtkDataArray* mass = grid->GetPointData()->GetArray("mass");
+  vtkDataArray* density = grid->GetPointData()->GetArray("density");
+  vtkDataArray* h = grid->GetPointData()->GetArray("smoothing_length");  // only with several spacings
+  SheetCells s;
+  for (vtkIdType i = 0; i < grid->GetNumberOfPoints(); ++i) {
+    const double* x = grid->GetPoint(i);
+    const double hi = h ? h->GetTuple1(i) : 0.0;
+    if (body->GetTuple1(i) != 0.0) {
+      ++s.drill;
+      s.drill_h_min = std::min(s.drill_h_min, hi), s.drill_h_max = std::max(s.drill_h_max, hi);
+      continue;
+    }
+    s.volume += mass->GetTuple1(i) / density->GetTuple1(i);
+    const double r = std::hypot(x[0], x[1]);
+    if (h && std::abs(hi - fine_h) < 1e-12) {
+      ++s.fine;
+      s.fine_r_max = std::max(s.fine_r_max, r);
+    } else {
+      ++s.coarse;
+      s.coarse_r_min = std::min(s.coarse_r_min, r);
+    }
+  }
+  return s;
+}
+}  // namespace
+
+TEST(FrictionDrilling, RefinedCentreSplitsTheCoarseCellsWithoutChangingTheSheet) {
+  // Eq. 121c: with refined_diameter 5 mm and refined_spacing 0.2 mm (the paper's discretisation) every
+  // 0.4 mm cell whose centre lies within 2.5 mm of the axis becomes 8 cells of 0.2 mm. The sheet keeps
+  // the coarse lattice's volume (to round-off: the fine cells tile the coarse ones exactly), the fine
+  // particles lie within 2.5 mm + a coarse cell's half-diagonal in plan, the coarse ones outside
+  // 2.5 mm minus it, each particle has h = 1.3 s (field smoothing_length), and the drill body takes
+  // the fine spacing. A sector with a refined centre is refused (exit 2, naming the parameter).
+  const std::string quick = std::string(SPHFORGE_SOURCE_DIR) + "/cases/friction_drilling/hx220_m4_quick.json";
+  const fs::path dir = scratch_folder("fd", "refined");
+  const Result coarse = run_sphforge({"run", quick, "--out", "coarse", "--quiet", "--set", "run.end_time=1e-9 s"}, dir);
+  ASSERT_EQ(coarse.code, 0) << describe(coarse);
+  const Result refined = run_sphforge({"run", quick, "--out", "refined", "--quiet", "--set", "run.end_time=1e-9 s", "--set",
+                                       "process.refined_diameter=5 mm", "--set", "process.refined_spacing=0.2 mm"},
+                                      dir);
+  ASSERT_EQ(refined.code, 0) << describe(refined);
+  const SheetCells c = read_sheet(dir / "coarse" / "particles_000000.vtu", 0.0);
+  const SheetCells f = read_sheet(dir / "refined" / "particles_000000.vtu", 1.3 * 0.2e-3);
+  EXPECT_NEAR(f.volume, c.volume, 1e-12 * c.volume);
+  ASSERT_GT(f.fine, 0);
+  EXPECT_EQ(f.fine % 8, 0);
+  EXPECT_EQ(f.fine / 8 + f.coarse, c.coarse);  // every coarse cell either kept or split in 8
+  const double half_diagonal = std::sqrt(0.5) * 0.4e-3;
+  EXPECT_LT(f.fine_r_max, 2.5e-3 + half_diagonal);
+  EXPECT_GT(f.coarse_r_min, 2.5e-3 - half_diagonal);
+  EXPECT_NEAR(f.drill_h_min, 1.3 * 0.2e-3, 1e-15);
+  EXPECT_NEAR(f.drill_h_max, 1.3 * 0.2e-3, 1e-15);
+  std::printf("refined centre: %d fine + %d coarse sheet particles (coarse lattice %d), drill body %d, sheet volume "
+              "%.6f mm^3 (coarse %.6f)\n",
+              f.fine, f.coarse, c.coarse, f.drill, f.volume * 1e9, c.volume * 1e9);
+
+  const Result sector = run_sphforge({"run", std::string(SPHFORGE_SOURCE_DIR) + "/cases/friction_drilling/hx220_m4.json",
+                                      "--out", "sector", "--quiet", "--set", "run.end_time=1e-9 s", "--set",
+                                      "process.refined_diameter=5 mm", "--set", "process.refined_spacing=0.1 mm"},
+                                     dir);
+  EXPECT_EQ(sector.code, 2) << describe(sector);
+  EXPECT_NE(sector.err.find("refined_diameter"), std::string::npos) << describe(sector);
+}

@@ -101,6 +101,9 @@ inline constexpr const char* von_mises_stress = "von_mises_stress";  // Pa
 // 1 where the particle's material criterion has failed it (latched), else 0; declared by a material
 // that has a failure criterion, and read by the core's bond rule (docs/failure.md, theory eq. 110).
 inline constexpr const char* failed = "failed";
+// m, the particle's own smoothing length h_over_dx s_i; only in a scene of several spacings
+// (docs/theory.md section 19), which the core detects from the bodies' spacings.
+inline constexpr const char* smoothing_length = "smoothing_length";
 }  // namespace field
 
 }  // namespace sphforge

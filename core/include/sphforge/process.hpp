@@ -23,6 +23,10 @@ struct BodySpec {
   /// Particle centres on a lattice of spacing `spacing_m`; each particle has volume spacing^3.
   std::vector<Eigen::Vector3d> positions;
   double spacing_m = 0.0;
+  /// Optional: each particle's own spacing (m), one per position, for a body with a refined zone
+  /// (docs/theory.md section 19: each particle then has volume s_i^3 and smoothing length
+  /// h_over_dx s_i). Empty: every particle has `spacing_m`.
+  std::vector<double> particle_spacings_m;
   /// Key of the case's "materials" object; empty: the case's "material".
   std::string material;
   /// Initial velocity of each particle (m/s); empty: at rest.

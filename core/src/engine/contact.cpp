@@ -96,6 +96,13 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
   const double contact_radius = 0.5 * spacing_;  // a particle's half-width touches the wall
   const double area = spacing_ * spacing_;
   const std::size_t n = a.n;
+  // Variable spacing (eq. 141): each particle's own half-width, area and stiffness; the culling
+  // below keeps the largest reach. The laws' scalar stiffness (their tangential spring) is the
+  // finest particle's, which keeps that spring inside every particle's stability limit.
+  const double* s_of = a.spacing;
+  double finest = spacing_;
+  if (s_of)
+    for (std::size_t i = 0; i < n; ++i) finest = std::min(finest, s_of[i]);
   const double* x = a.x;
   const double* v = a.v;
   // The per-particle indices: in the borrowed storage when it holds them (the pass scratch, idle
@@ -185,7 +192,12 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     std::fill(slot_of_, slot_of_ + n, kFar);
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < m; ++k) slot_of_[near_particles_[k]] = static_cast<std::uint32_t>(k);
-    auto touching = [&](std::size_t i) { return slot_of_[i] != kFar && near_distance_[slot_of_[i]] < reach; };
+    const double range = law ? law->wall_range() : 0.0;
+    auto touching = [&](std::size_t i) {
+      if (slot_of_[i] == kFar) return false;
+      const double reach_i = s_of ? (0.5 + range) * s_of[i] : reach;
+      return near_distance_[slot_of_[i]] < reach_i;
+    };
     // Gather the touching particles in index order (deterministic).
     particle_.clear();
     for (std::size_t i = 0; i < n; ++i)
@@ -205,7 +217,10 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     batch_acc_.resize(3 * nc, lent_, used);
     batch_vwall_.resize(3 * nc, lent_, used);
     batch_area_.resize(nc, lent_, used);
-    std::fill(batch_area_.data(), batch_area_.data() + nc, area);
+    if (s_of)
+      for (std::size_t c = 0; c < nc; ++c) batch_area_[c] = s_of[particle_[c]] * s_of[particle_[c]];
+    else
+      std::fill(batch_area_.data(), batch_area_.data() + nc, area);
     batch_yield_.resize(nc, lent_, used);
     batch_history_.resize(3 * nc, lent_, used);
     batch_ft_.resize(3 * nc, lent_, used);
@@ -221,10 +236,11 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       const Eigen::Vector3d v_wall = tool.surface_velocity(xi);
       const Eigen::Vector3d v_rel = Eigen::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]) - v_wall;
       const double vn = v_rel.dot(nrm);
-      const double gap = contact_radius - near_distance_[k];
+      const double gap = (s_of ? 0.5 * s_of[i] : contact_radius) - near_distance_[k];
       // Damped penalty (eq. 11); a wall only pushes, never pulls.
-      const double damping = 2.0 * settings_.damping_ratio * std::sqrt(stiffness_ * a.mass[i]);
-      const double fn = gap > 0.0 ? std::max(0.0, stiffness_ * gap - damping * vn) : 0.0;
+      const double k_i = s_of ? stiffness_ * s_of[i] / spacing_ : stiffness_;
+      const double damping = 2.0 * settings_.damping_ratio * std::sqrt(k_i * a.mass[i]);
+      const double fn = gap > 0.0 ? std::max(0.0, k_i * gap - damping * vn) : 0.0;
       // Tangential relative velocity: v - (v.n) n  (never a component-wise product).
       const Eigen::Vector3d vt = v_rel - vn * nrm;
       batch_mass_[c] = a.mass[i];
@@ -254,7 +270,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       ContactBatch batch;
       batch.count = nc;
       batch.dt = a.dt;
-      batch.stiffness = stiffness_;
+      batch.stiffness = stiffness_ * finest / spacing_;
       batch.particle = particle_.data();
       batch.mass = batch_mass_.data();
       batch.normal = batch_normal_.data();

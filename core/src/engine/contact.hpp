@@ -44,6 +44,10 @@ struct ContactArrays {
   /// Per tool (null: none does): 1 when it carries thermal particles that take its share of the
   /// friction heat (eq. 91); the pass then records that share per contact (PenaltyContact::tool_heat()).
   const unsigned char* tool_takes_heat = nullptr;
+  /// Per-particle spacing of a scene of several spacings (null: all have the configured one), eq. 141:
+  /// a particle's half-width s_i / 2 touches the wall, its share of the surface is s_i^2 and its
+  /// penalty stiffness k s_i / s. The configured spacing must then be the largest.
+  const double* spacing = nullptr;
   /// Storage idle during the pass (the caller's pass scratch) that it may use for its per-particle
   /// indices (12 bytes per particle) instead of holding its own; overwritten. Empty: none lent.
   std::span<double> borrow;

@@ -70,8 +70,8 @@ bool NeighbourList::needs_rebuild(const double* x, std::size_t n, double radius,
 }
 
 void NeighbourList::rebuild(const double* x, std::size_t n, double radius, double skin, std::size_t query,
-                            std::span<double> borrow) {
-  build(x, n, radius + skin, query, borrow);
+                            std::span<double> borrow, const double* point_support) {
+  build(x, n, radius + skin, query, borrow, point_support, skin);
   const std::size_t watched = 3 * std::min(n, query);
   x_at_build_.resize(watched);
   double largest = 0.0;
@@ -89,8 +89,8 @@ void NeighbourList::rebuild(const double* x, std::size_t n, double radius, doubl
 }
 
 void NeighbourList::build_transient(const double* x, std::size_t n, double radius, double skin, std::size_t query,
-                                    std::span<double> borrow) {
-  build(x, n, radius + skin, query, borrow);
+                                    std::span<double> borrow, const double* point_support) {
+  build(x, n, radius + skin, query, borrow, point_support, skin);
   stale_ = true;  // the watch positions stay those of the last counted build
 }
 
@@ -101,7 +101,7 @@ bool NeighbourList::update(const double* x, std::size_t n, double radius, double
 }
 
 void NeighbourList::build(const double* x, std::size_t n, double radius, std::size_t query,
-                          std::span<double> borrow) {
+                          std::span<double> borrow, const double* point_support, double skin) {
   // Bit 31 of base_of_ marks a wide list, so indices must fit in 31 bits.
   if (n >= kWide) throw std::length_error("too many particles");
   const std::size_t nq = std::min(n, query);  // particles that get a list
@@ -207,6 +207,18 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
   for (int d = 0; d < 3; ++d) extent = std::max(extent, hi[d] - lo[d]);
   const double search = radius * (1.0 + 1e-5) + 1e-6 * extent;
   const float r2 = static_cast<float>(search * search);
+  // Variable spacing (eq. 140): a pair is kept when closer than (S_i + S_j) / 2 + skin, with the
+  // same margin; `radius` is the largest S + skin, so these radii never exceed the cells' reach.
+  const bool graded = point_support != nullptr;
+  const double pair_margin = search - radius + skin;  // skin plus the single-precision margin
+  if (graded) {
+    sorted_half_support_.resize(n);
+#pragma omp parallel for schedule(static)
+    for (std::size_t s = 0; s < n; ++s) sorted_half_support_[s] = static_cast<float>(0.5 * point_support[sorted[s]]);
+  } else {
+    std::vector<float>().swap(sorted_half_support_);
+  }
+  const float* half_support = sorted_half_support_.data();
 
 #pragma omp parallel for schedule(dynamic, 1)
   for (std::size_t c = 0; c < nchunks; ++c) {
@@ -233,11 +245,22 @@ void NeighbourList::build(const double* x, std::size_t n, double radius, std::si
           if (found + (s1 - s0) > cand.size()) cand.resize(2 * (found + (s1 - s0)));
           std::uint32_t* dst = cand.data();
           const float* p = sorted_x;
-          for (std::uint32_t s = s0; s < s1; ++s) {
-            const float dx = xi - p[3 * s], dy = yi - p[3 * s + 1], dz = zi - p[3 * s + 2];
-            const std::uint32_t j = sorted[s];
-            dst[found] = j;  // branch-free: kept only when close enough and not i itself
-            found += (dx * dx + dy * dy + dz * dz < r2) & (j != i);
+          if (graded) {
+            const float reach_i = static_cast<float>(0.5 * point_support[i] + pair_margin);
+            for (std::uint32_t s = s0; s < s1; ++s) {
+              const float dx = xi - p[3 * s], dy = yi - p[3 * s + 1], dz = zi - p[3 * s + 2];
+              const float reach = reach_i + half_support[s];
+              const std::uint32_t j = sorted[s];
+              dst[found] = j;
+              found += (dx * dx + dy * dy + dz * dz < reach * reach) & (j != i);
+            }
+          } else {
+            for (std::uint32_t s = s0; s < s1; ++s) {
+              const float dx = xi - p[3 * s], dy = yi - p[3 * s + 1], dz = zi - p[3 * s + 2];
+              const std::uint32_t j = sorted[s];
+              dst[found] = j;  // branch-free: kept only when close enough and not i itself
+              found += (dx * dx + dy * dy + dz * dz < r2) & (j != i);
+            }
           }
         }
       // Encode (section 7): offsets from the smallest index when the list spans at most 65,535

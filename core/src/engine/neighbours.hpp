@@ -40,8 +40,11 @@ class NeighbourList {
   /// `borrow`: storage idle during the build (the caller's pass scratch) that the build may use for
   /// its scratch (build_scratch_bytes_per_point() per point) instead of holding its own; its
   /// contents are overwritten.
+  /// `point_support` (default null): per-point kernel support radii 2 h_i of a scene of several
+  /// spacings (eq. 140); a pair is then listed when closer than (S_i + S_j) / 2 + skin, the support
+  /// of its h_ij plus the skin, and `radius` must be the largest S_i.
   void rebuild(const double* x, std::size_t count, double radius, double skin, std::size_t query = SIZE_MAX,
-               std::span<double> borrow = {});
+               std::span<double> borrow = {}, const double* point_support = nullptr);
   /// Bytes of build scratch per point (cell, sorted index, 3 single-precision coordinates).
   static constexpr std::size_t build_scratch_bytes_per_point() {
     return 2 * sizeof(std::uint32_t) + 3 * sizeof(float);
@@ -59,14 +62,17 @@ class NeighbourList {
   /// so that the next needs_rebuild() is true and the step rebuilds exactly where it would have
   /// without this build (same build count, same watch positions, same reordering schedule).
   void build_transient(const double* x, std::size_t count, double radius, double skin,
-                       std::size_t query = SIZE_MAX, std::span<double> borrow = {});
+                       std::size_t query = SIZE_MAX, std::span<double> borrow = {},
+                       const double* point_support = nullptr);
 
   /// Builds lists of all j != i with |x_i - x_j| < radius (possibly a few more pairs closer than
   /// radius (1 + 1e-5) + 1e-6 * the cloud's extent: the search runs in single precision with that
   /// margin, so the lists are always a superset). x: 3 doubles per particle.
   /// Allocation-free once the arrays have grown to their working size.
+  /// `point_support` (default null): as for rebuild(), with `radius` = the largest S_i + skin and
+  /// `skin` the part of it that every pair gets on top of its own support.
   void build(const double* x, std::size_t count, double radius, std::size_t query = SIZE_MAX,
-             std::span<double> borrow = {});
+             std::span<double> borrow = {}, const double* point_support = nullptr, double skin = 0.0);
 
   std::size_t count() const { return end_.size(); }
 
@@ -141,6 +147,7 @@ class NeighbourList {
   std::vector<std::uint32_t> cell_start_;  // first slot of each cell in sorted_
   std::vector<std::uint32_t> sorted_;      // particle indices sorted by cell
   std::vector<float> sorted_x_;            // their positions relative to the grid origin, 3 per slot
+  std::vector<float> sorted_half_support_;  // variable spacing: S_j / 2 per slot (eq. 140)
   // Positions when the lists were built, in single precision (12 bytes per particle instead of 24);
   // watch_error_ bounds |x_build - x_at_build_| (rounding, theory section 7), which needs_rebuild()
   // takes off the skin/2 it allows, so that the lists stay complete for `radius`.

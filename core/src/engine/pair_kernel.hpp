@@ -109,6 +109,35 @@ struct PairKernel {
       W = w_scale * (in ? 1.0 - 1.5 * q * q + 0.75 * q * q * q : 0.25 * t * t * t);
     }
   }
+  /// F(r) of a pair whose smoothing length is h (variable spacing, eq. 138: h = h_ij), the same
+  /// formula with its constants computed for this pair.
+  SPHFORGE_PAIR_INLINE double factor_at(double r2, double h) const {
+    double F, W;
+    factor_and_value_at(r2, h, F, W);
+    return F;
+  }
+  /// F(r) and W(r) of a pair with smoothing length h (eq. 138).
+  SPHFORGE_PAIR_INLINE void factor_and_value_at(double r2, double h, double& F, double& W) const {
+    const double ih = 1.0 / h, ih3 = ih * ih * ih;
+    const double sigma =
+        (K == KernelKind::WendlandC2 ? 21.0 / (16.0 * kernel_detail::kPi) : 1.0 / kernel_detail::kPi) * ih3;
+    const double q = std::sqrt(r2) * ih, fs = sigma * ih * ih;
+    if constexpr (K == KernelKind::WendlandC2) {
+      const double t = std::max(0.0, 1.0 - 0.5 * q);
+      const double t3 = t * t * t;
+      F = fs * (-5.0) * t3;
+      W = sigma * t3 * t * (2.0 * q + 1.0);
+    } else {
+      const double t = std::max(0.0, 2.0 - q);
+      const bool in = q < 1.0;
+      F = fs * (in ? -3.0 + 2.25 * q : -0.75 * t * t / q);  // q = 0 only selects inner
+      W = sigma * (in ? 1.0 - 1.5 * q * q + 0.75 * q * q * q : 0.25 * t * t * t);
+    }
+  }
 };
+
+/// The smoothing length of a pair under variable spacing: the mean of the two particles' (eq. 138),
+/// symmetric, so that W_ij = W_ji and grad_i W_ij = -grad_j W_ji (momentum conserved pair by pair).
+SPHFORGE_PAIR_INLINE double pair_smoothing_length(double hi, double hj) { return 0.5 * (hi + hj); }
 
 }  // namespace sphforge

@@ -321,6 +321,8 @@ class Simulation::Builder : public SceneBuilder {
     if (!(body.spacing_m > 0.0)) throw std::invalid_argument("body '" + body.name + "': spacing must be positive");
     if (!body.velocities.empty() && body.velocities.size() != body.positions.size())
       throw std::invalid_argument("body '" + body.name + "': one initial velocity per particle expected");
+    if (!body.particle_spacings_m.empty() && body.particle_spacings_m.size() != body.positions.size())
+      throw std::invalid_argument("body '" + body.name + "': one particle spacing per particle expected");
     if (symmetry && symmetry->active()) {
       // The core keeps only the particles inside the symmetry region (eq. 30): processes build
       // their whole bodies and need not know about symmetry.
@@ -329,10 +331,12 @@ class Simulation::Builder : public SceneBuilder {
         if (!symmetry->inside(body.positions[k])) continue;
         body.positions[kept] = body.positions[k];
         if (!body.velocities.empty()) body.velocities[kept] = body.velocities[k];
+        if (!body.particle_spacings_m.empty()) body.particle_spacings_m[kept] = body.particle_spacings_m[k];
         ++kept;
       }
       body.positions.resize(kept);
       if (!body.velocities.empty()) body.velocities.resize(kept);
+      if (!body.particle_spacings_m.empty()) body.particle_spacings_m.resize(kept);
       if (kept == 0)
         throw std::invalid_argument("body '" + body.name + "' has no particle inside the symmetry region "
                                     "(numerics.symmetry)");
@@ -652,6 +656,34 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     passes_.push_back({"convection", {position, mass, density, temperature}, {convection_coefficient}});
     passes_.push_back({"integrate_temperature", {temperature_rate}, {temperature}});
   }
+  // Variable spacing (theory section 19): particles of several spacings each get the smoothing length
+  // of their own, h_i = h_over_dx s_i, and a pair uses h_ij = (h_i + h_j) / 2 (eq. 138).
+  {
+    double smin = std::numeric_limits<double>::infinity(), smax = 0.0;
+    for (const BodySpec& b : builder.bodies) {  // (add_body checked one spacing per particle)
+      if (b.particle_spacings_m.empty()) {
+        if (!b.positions.empty()) smin = std::min(smin, b.spacing_m), smax = std::max(smax, b.spacing_m);
+      } else {
+        for (double s : b.particle_spacings_m) {
+          if (!(s > 0.0)) throw std::logic_error("process: body '" + b.name + "' has a particle spacing <= 0");
+          smin = std::min(smin, s), smax = std::max(smax, s);
+        }
+      }
+    }
+    variable_spacing_ = smax > smin * (1.0 + 1e-9);
+    if (variable_spacing_) {
+      const std::string why = " is not implemented for particles of several spacings (this case has " +
+                              std::to_string(smin * 1e3) + " to " + std::to_string(smax * 1e3) +
+                              " mm; docs/theory.md section 19)";
+      if (symmetry_.active()) throw InputError(file, "/numerics/symmetry", "a symmetry sector" + why);
+      if (settings_.second_order_gradient)
+        throw InputError(file, "/numerics/gradient_correction_order", "\"second\"" + why);
+      if (settings_.density_diffusion > 0.0)
+        throw InputError(file, "/numerics/density_diffusion", "density diffusion" + why);
+      if (settings_.xsph > 0.0) throw InputError(file, "/numerics/xsph", "XSPH" + why);
+      passes_.push_back({"variable_spacing", {}, {FieldInfo{field::smoothing_length, 1, "m"}}});
+    }
+  }
   // Tool-attached thermal bodies keep their tool-frame positions, moved with them by reordering (eq. 90).
   if (any_attached_)
     passes_.push_back({"attached_bodies", {}, {position, FieldInfo{kToolReferencePosition, 3, "m"}}});
@@ -667,9 +699,19 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   if (count_ == 0) throw InputError(file, "/process", "the process created no particles");
   fields_.allocate(count_);
   spacing_ = builder.bodies.front().spacing_m;
-  for (const auto& b : builder.bodies) spacing_ = std::max(spacing_, b.spacing_m);
+  double spacing_min = std::numeric_limits<double>::infinity();
+  for (const auto& b : builder.bodies) {
+    if (b.positions.empty()) continue;
+    spacing_ = std::max(spacing_, b.spacing_m);
+    spacing_min = std::min(spacing_min, b.spacing_m);
+    for (double s : b.particle_spacings_m) spacing_ = std::max(spacing_, s), spacing_min = std::min(spacing_min, s);
+  }
+  if (!variable_spacing_) spacing_min = spacing_;
   h_ = settings_.h_over_dx * spacing_;
+  h_min_ = settings_.h_over_dx * spacing_min;
   settings_.artificial_stress.w_dx = kernel_value(settings_.kernel, spacing_, h_);
+  settings_.artificial_stress.w_dx_unit = kernel_value(settings_.kernel, 1.0 / settings_.h_over_dx, 1.0);  // eq. 139
+  double* smoothing_length = variable_spacing_ ? fields_.f64(field::smoothing_length) : nullptr;
   double* x = fields_.f64(field::position);
   double* v = fields_.f64_if(field::velocity);
   double* m = fields_.f64(field::mass);
@@ -688,12 +730,13 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
       const Material& material = *materials_[body_material[b]];
       // Mass scaling multiplies mass and (inertial) density alike (eq. 24).
       const double rho0 = material.reference_density() * mass_scaling;
-      const double particle_mass = rho0 * src.spacing_m * src.spacing_m * src.spacing_m;
       for (std::size_t k = 0; k < src.positions.size(); ++k, ++next) {
         for (int d = 0; d < 3; ++d) x[3 * next + d] = src.positions[k][d];
         if (v && !src.velocities.empty())
           for (int d = 0; d < 3; ++d) v[3 * next + d] = src.velocities[k][d];
-        m[next] = particle_mass;
+        const double s = src.particle_spacings_m.empty() ? src.spacing_m : src.particle_spacings_m[k];
+        m[next] = rho0 * s * s * s;
+        if (smoothing_length) smoothing_length[next] = settings_.h_over_dx * s;
         rho[next] = rho0;
         ids[next] = static_cast<std::int64_t>(next);
         body_of[next] = static_cast<std::int64_t>(b);
@@ -749,6 +792,18 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
 
 Simulation::~Simulation() = default;
 
+const double* Simulation::smoothing_lengths() const {
+  return variable_spacing_ ? fields_.f64(field::smoothing_length) : nullptr;
+}
+
+const double* Simulation::point_supports(std::size_t count) {
+  if (!variable_spacing_) return nullptr;
+  const double* hl = fields_.f64(field::smoothing_length);
+  point_support_.resize(count);
+  for (std::size_t i = 0; i < count; ++i) point_support_[i] = kernel_support_radius(hl[i]);
+  return point_support_.data();
+}
+
 // --- time step ------------------------------------------------------------------------------------
 double Simulation::thermal_time_step() const {
   // Explicit conduction is stable for dt < factor rho c h^2 / k (eq. 26), with time scaling f
@@ -763,7 +818,8 @@ double Simulation::thermal_time_step() const {
     // Thermal inertia uses the physical density: mass scaling is a mechanical device only.
     limit = std::min(limit, rho[i] / s * specific_heat_[i] / conductivity_[i]);
   }
-  return settings_.thermal.time_step_factor * h_ * h_ * limit / settings_.time_scaling;
+  // The smallest smoothing length sets it (with variable spacing, eq. 138).
+  return settings_.thermal.time_step_factor * h_min_ * h_min_ * limit / settings_.time_scaling;
 }
 
 double Simulation::stable_time_step() {
@@ -776,7 +832,7 @@ double Simulation::stable_time_step() {
     for (std::size_t i = 0; i < nm; ++i)
       vmax2 = std::max(vmax2, v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
     // NaN in a velocity is lost by max(); the stability check finds it.
-    dt_cfl_ = settings_.cfl * h_ / (wave_speed_ + std::sqrt(vmax2));  // eq. 13
+    dt_cfl_ = settings_.cfl * h_min_ / (wave_speed_ + std::sqrt(vmax2));  // eq. 13 (h_min_: eq. 138)
     // Half the contact spring's stability limit: a safety margin for the damping's velocity lag.
     if (!tools_.empty()) dt_contact_ = 0.5 * contact_.stable_time_step(min_mass_);
   }
@@ -909,7 +965,7 @@ void Simulation::velocity_gradient_pass(const double* xe, const double* ve, cons
     second_order_velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, second_b, correction, L, n);
   } else {
     velocity_gradient(neighbours_, settings_.kernel, h_, xe, ve, volume, settings_.gradient_correction, L, condition,
-                      correction, n, failure);
+                      correction, n, failure, smoothing_lengths());
   }
 }
 
@@ -939,8 +995,8 @@ void Simulation::build_mechanical_lists(const double* x, std::size_t n, std::siz
   scratch_.resize(per_particle * points);
   const double* xe = sym ? extend(ext_x_, x, 3, true) : x;
   const std::size_t query = sym ? n : SIZE_MAX;
-  if (transient) neighbours_.build_transient(xe, points, search, skin, query, scratch_);
-  else neighbours_.rebuild(xe, points, search, skin, query, scratch_);
+  if (transient) neighbours_.build_transient(xe, points, search, skin, query, scratch_, point_supports(points));
+  else neighbours_.rebuild(xe, points, search, skin, query, scratch_, point_supports(points));
 }
 
 // The velocity gradient of an output frame. The step overwrites L with A = sigma C once L is dead for
@@ -1154,7 +1210,8 @@ void Simulation::mechanics_rates() {
   // The volumes are those of the step's start (before the density update): the same V_j the
   // corrected gradient used, as the energy consistency of eq. 7 requires.
   momentum_rate(neighbours_, settings_.kernel, h_, settings_.viscosity, wave_speed_, xe, ve, me, rho_e, volume, stress_c,
-                settings_.artificial_stress, artificial, artificial ? tension_bits_.data() : nullptr, a, n, failure);
+                settings_.artificial_stress, artificial, artificial ? tension_bits_.data() : nullptr, a, n, failure,
+                smoothing_lengths());
   // Its quadratic part, the dual of the second-order gradient (eq. 136).
   if (second) second_order_momentum_term(neighbours_, settings_.kernel, h_, xe, me, volume, stress_b, a, n);
   // Body force (gravity): the internal-work ledger below takes it out again so that it is not
@@ -1181,6 +1238,13 @@ void Simulation::mechanics_rates() {
     // The pass scratch is dead after the momentum pass (until the next step's build): it lends the
     // contact pass the room for its 12 bytes of indices per particle.
     ca.borrow = scratch_;
+    if (variable_spacing_) {
+      // Each particle's own spacing (eq. 141), from its smoothing length.
+      const double* hl = smoothing_lengths();
+      contact_spacing_.resize(n);
+      for (std::size_t i = 0; i < n; ++i) contact_spacing_[i] = hl[i] / settings_.h_over_dx;
+      ca.spacing = contact_spacing_.data();
+    }
     contacts_ = contact_.apply(tools_, ca);
     contact_time_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - contact_start).count();
   }
@@ -1222,7 +1286,7 @@ void Simulation::thermal_heat_flows(const std::vector<ToolHeatRecord>& tool_heat
       xe = extend(ext_thermal_x_, x, 3, true, thermal_symmetry_, n);
       if (rebuild) thermal_neighbours_.rebuild(xe, n + thermal_symmetry_.ghost_count(), search, skin, n);
     } else if (rebuild) {
-      thermal_neighbours_.rebuild(x, n, search, skin);
+      thermal_neighbours_.rebuild(x, n, search, skin, SIZE_MAX, {}, point_supports(n));
     }
     thermal_lists_stale_ = false;
     nl = &thermal_neighbours_;
@@ -1249,11 +1313,12 @@ void Simulation::thermal_heat_flows(const std::vector<ToolHeatRecord>& tool_heat
   if (any_attached_ && heat_source)
     deposit_tool_heat(tool_heat, *nl, settings_.kernel, h_, xe, m, settings_.mass_scaling,
                       fields_.i64(field::body), bodies_, fields_.f64(field::heat_source), n,
-                      sym ? ghosts.sources().data() : nullptr);
+                      sym ? ghosts.sources().data() : nullptr, smoothing_lengths());
   std::fill(heat_W_.begin(), heat_W_.end(), 0.0);
-  heat_conduction(*nl, settings_.kernel, h_, xe, volume, Te, conductivity_.data(), heat_W_.data(), n);  // eq. 20
+  heat_conduction(*nl, settings_.kernel, h_, xe, volume, Te, conductivity_.data(), heat_W_.data(), n,
+                  smoothing_lengths());  // eq. 20
   if (any_convection_) {
-    surface_area(*nl, settings_.kernel, h_, xe, volume, area_.data(), n);  // eq. 22
+    surface_area(*nl, settings_.kernel, h_, xe, volume, area_.data(), n, smoothing_lengths());  // eq. 22
     convection(hc, area_.data(), T, settings_.thermal.ambient_temperature_K, heat_W_.data(), n);  // eq. 23
   }
 }

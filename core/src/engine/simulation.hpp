@@ -229,6 +229,16 @@ class Simulation {
   double domain_min_[3] = {0, 0, 0}, domain_max_[3] = {0, 0, 0};  ///< particles outside: instability
   double domain_margin_used_m_ = 0.0;
   double spacing_ = 0.0, h_ = 0.0, min_mass_ = 0.0, initial_kinetic_energy_ = 0.0;
+  /// Variable spacing (theory section 19): particles of several spacings, each with its smoothing
+  /// length in the field `smoothing_length`; h_ is then the largest and h_min_ the smallest.
+  bool variable_spacing_ = false;
+  double h_min_ = 0.0;
+  std::vector<double> point_support_;    ///< 2 h_i per point of a list build (eq. 140)
+  std::vector<double> contact_spacing_;  ///< s_i = h_i / h_over_dx for the contact pass (eq. 141)
+  /// The per-particle smoothing lengths (null with one spacing), and the supports 2 h_i for a
+  /// neighbour build over the first `count` particles (null with one spacing).
+  const double* smoothing_lengths() const;
+  const double* point_supports(std::size_t count);
   /// Work the process's constraints (prescribed velocities) did, summed over the steps (eq. 27a):
   /// part of the energy ledger of the instability check, like the tools' work.
   double constraint_work_J_ = 0.0;

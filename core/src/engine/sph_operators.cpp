@@ -27,11 +27,14 @@ struct GradientArgs {
   double *L, *condition, *correction;
   std::size_t n;
   BondFailure failure;  // failed == null: no failure in the scene
+  const double* h_point;  // per-particle smoothing length (variable spacing, eq. 138); null: uniform
 };
 
 // Failure: the loops with the bond rule of eq. 112 are separate instances, so that a scene without
 // failure runs exactly the loops it ran before (no load, no multiplication, no branch).
-template <KernelKind K, bool Corrected, bool Failure>
+// Variable: the pair's smoothing length is h_ij of eq. 138 (variable spacing), a separate instance
+// so that a scene of one spacing runs the loop with the kernel's constants hoisted.
+template <KernelKind K, bool Corrected, bool Failure, bool Variable>
 SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, const PairKernel<K>& kernel,
                                                        std::size_t i) {
   const double* x = g.x;
@@ -47,12 +50,17 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
   const std::uint32_t* const nb = list.indices;
   const std::ptrdiff_t count = list.count;
   const BondRule<Failure> bond(g.failure, i);
+  const double* hp = g.h_point;
+  const double hi = Variable ? hp[i] : 0.0;
 #pragma omp simd reduction(+ : l0, l1, l2, l3, l4, l5, l6, l7, l8, m0, m1, m2, m3, m4, m5)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const std::size_t j = nb[k];
     const double x0 = xi0 - x[3 * j], x1 = xi1 - x[3 * j + 1], x2 = xi2 - x[3 * j + 2];
     const double r2 = x0 * x0 + x1 * x1 + x2 * x2;
-    double f = kernel.factor(r2) * volume[j];  // V_j (dW/dr)/r; 0 beyond the support
+    double kf;
+    if constexpr (Variable) kf = kernel.factor_at(r2, pair_smoothing_length(hi, hp[j]));
+    else kf = kernel.factor(r2);
+    double f = kf * volume[j];  // V_j (dW/dr)/r; 0 beyond the support
     // A broken bond under tension leaves the gradient and the correction matrix alike (eq. 113):
     // the particle then sees its side of the crack as a free surface.
     if constexpr (Failure)
@@ -110,22 +118,29 @@ SPHFORGE_ALWAYS_INLINE void velocity_gradient_particle(const GradientArgs& g, co
   for (int c = 0; c < 9; ++c) out[c] = l[c];
 }
 
-template <KernelKind K, bool Corrected, bool Failure>
+template <KernelKind K, bool Corrected, bool Failure, bool Variable>
 void velocity_gradient_run(const GradientArgs& g, double h) {
   const PairKernel<K> kernel(h);
   for_each_particle(g.n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
-    if (Failure && g.failure.failed[i] != 0.0) velocity_gradient_particle<K, Corrected, Failure>(g, kernel, i);
-    else velocity_gradient_particle<K, Corrected, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
+    if (Failure && g.failure.failed[i] != 0.0)
+      velocity_gradient_particle<K, Corrected, Failure, Variable>(g, kernel, i);
+    else  // an intact particle has no broken bond (eq. 111)
+      velocity_gradient_particle<K, Corrected, false, Variable>(g, kernel, i);
   });
 }
 
 template <KernelKind K, bool Corrected>
 void velocity_gradient_impl(const NeighbourList& nl, double h, const double* x, const double* v,
                             const double* volume, double* L, std::size_t n, double* condition, double* correction,
-                            const BondFailure& failure) {
-  const GradientArgs g{&nl, x, v, volume, L, condition, correction, n, failure};
-  if (failure.failed) velocity_gradient_run<K, Corrected, true>(g, h);
-  else velocity_gradient_run<K, Corrected, false>(g, h);
+                            const BondFailure& failure, const double* h_point) {
+  const GradientArgs g{&nl, x, v, volume, L, condition, correction, n, failure, h_point};
+  if (h_point) {
+    if (failure.failed) velocity_gradient_run<K, Corrected, true, true>(g, h);
+    else velocity_gradient_run<K, Corrected, false, true>(g, h);
+  } else {
+    if (failure.failed) velocity_gradient_run<K, Corrected, true, false>(g, h);
+    else velocity_gradient_run<K, Corrected, false, false>(g, h);
+  }
 }
 
 struct MomentumArgs {
@@ -136,12 +151,16 @@ struct MomentumArgs {
   std::size_t n;
   double h, eta2h2, alpha_c, beta, inv_w_dx, exponent;
   BondFailure failure;  // failed == null: no failure in the scene
+  // Variable spacing (eq. 138): per-particle smoothing length, eta^2, and 1 / W(dx / h = 1 / kappa)
+  // of a kernel with h = 1 (W(dx_ij, h_ij) = that / h_ij^3, eq. 139). h_point null: uniform.
+  const double* h_point;
+  double eta2, inv_w_dx_unit;
 };
 
 /// The sums of eq. 7 for particle i over its decoded neighbours nb[0, count).
 /// Exponent: 0 without artificial stress, 4 for the usual n = 4 (multiplications), -1 for any
 /// other n (pow). Failure: the bond rule of eq. 112 (a separate instance, see the gradient).
-template <KernelKind K, int Exponent, bool Failure>
+template <KernelKind K, int Exponent, bool Failure, bool Variable>
 SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i,
                                           const std::uint32_t* const nb, const std::ptrdiff_t count) {
   constexpr bool kStress = Exponent != 0;
@@ -162,6 +181,8 @@ SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKerne
   for (int c = 0; c < 6; ++c) Ri[c] = kStress ? R[6 * i + c] : 0.0;
   double a0 = 0, a1 = 0, a2 = 0;
   const BondRule<Failure> bond(g.failure, i);
+  const double* hp = g.h_point;
+  const double hi = Variable ? hp[i] : 0.0;
 #pragma omp simd reduction(+ : a0, a1, a2)
   for (std::ptrdiff_t k = 0; k < count; ++k) {
     const std::size_t j = nb[k];
@@ -170,8 +191,14 @@ SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKerne
     // grad_i W_ij = gw * x_ij. Pairs in the Verlet skin (gw = 0) run through too and add an
     // exact 0: cheaper than an unpredictable branch.
     double gw, w = 0.0;
-    if constexpr (kStress) kernel.factor_and_value(r2, gw, w);
-    else gw = kernel.factor(r2);
+    const double hij = Variable ? pair_smoothing_length(hi, hp[j]) : h;
+    if constexpr (Variable) {
+      if constexpr (kStress) kernel.factor_and_value_at(r2, hij, gw, w);
+      else gw = kernel.factor_at(r2, hij);
+    } else {
+      if constexpr (kStress) kernel.factor_and_value(r2, gw, w);
+      else gw = kernel.factor(r2);
+    }
     // Stress term (eq. 7): V_j / rho_i (sigma_i C_i + sigma_j C_j) . grad_i W_ij, A = sigma C.
     const double* aj = stress_c + 9 * j;
     double a[9];
@@ -194,7 +221,7 @@ SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKerne
       // Artificial stress projected on the pair direction (eq. 9):
       // f_ij^n e_ij . (R_i + R_j) . e_ij, f_ij = W(r_ij)/W(dx), e_ij = x_ij / r_ij. R is zero for
       // particles under no principal tension, and then this adds an exact 0.
-      const double fw = w * g.inv_w_dx;
+      const double fw = Variable ? w * (hij * hij * hij) * g.inv_w_dx_unit : w * g.inv_w_dx;  // eq. 139
       double f;
       if constexpr (Exponent == 4) {
         const double fw2 = fw * fw;
@@ -214,7 +241,8 @@ SPHFORGE_ALWAYS_INLINE void momentum_sums(const MomentumArgs& g, const PairKerne
     }
     // Monaghan artificial viscosity, only for approaching pairs  (eq. 8)
     const double vij_xij = (vi0 - v[3 * j]) * x0 + (vi1 - v[3 * j + 1]) * x1 + (vi2 - v[3 * j + 2]) * x2;
-    const double mu = h * std::min(vij_xij, 0.0) / (r2 + eta2h2);
+    const double mu = Variable ? hij * std::min(vij_xij, 0.0) / (r2 + g.eta2 * hij * hij)
+                               : h * std::min(vij_xij, 0.0) / (r2 + eta2h2);
     const double Pi = (-alpha_c * mu + beta * mu * mu) / (0.5 * (rhoi + rho[j]));
     const double mgs = m[j] * gw * (s - Pi);
     a0 += mgs * x0;
@@ -240,7 +268,7 @@ SPHFORGE_ALWAYS_INLINE bool no_tension_around(const std::uint64_t* tension, std:
   return any == 0;
 }
 
-template <KernelKind K, int Exponent, bool Failure>
+template <KernelKind K, int Exponent, bool Failure, bool Variable>
 SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairKernel<K>& kernel, std::size_t i) {
   const DecodedList list(*g.nl, i);
   const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(list.count);
@@ -250,26 +278,31 @@ SPHFORGE_ALWAYS_INLINE void momentum_particle(const MomentumArgs& g, const PairK
   // of the material is in compression: a scene pays for the artificial stress only where it acts.
   if constexpr (Exponent != 0) {
     if (g.tension && no_tension_around(g.tension, i, list.indices, count)) {
-      momentum_sums<K, 0, Failure>(g, kernel, i, list.indices, count);
+      momentum_sums<K, 0, Failure, Variable>(g, kernel, i, list.indices, count);
       return;
     }
   }
-  momentum_sums<K, Exponent, Failure>(g, kernel, i, list.indices, count);
+  momentum_sums<K, Exponent, Failure, Variable>(g, kernel, i, list.indices, count);
 }
 
-template <KernelKind K, int Exponent, bool Failure>
+template <KernelKind K, int Exponent, bool Failure, bool Variable>
 void momentum_rate_run(const MomentumArgs& g) {
   const PairKernel<K> kernel(g.h);
   for_each_particle(g.n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
-    if (Failure && g.failure.failed[i] != 0.0) momentum_particle<K, Exponent, Failure>(g, kernel, i);
-    else momentum_particle<K, Exponent, false>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
+    if (Failure && g.failure.failed[i] != 0.0) momentum_particle<K, Exponent, Failure, Variable>(g, kernel, i);
+    else momentum_particle<K, Exponent, false, Variable>(g, kernel, i);  // an intact particle has no broken bond (eq. 111)
   });
 }
 
 template <KernelKind K, int Exponent>
 void momentum_rate_impl(const MomentumArgs& g) {
-  if (g.failure.failed) momentum_rate_run<K, Exponent, true>(g);
-  else momentum_rate_run<K, Exponent, false>(g);
+  if (g.h_point) {
+    if (g.failure.failed) momentum_rate_run<K, Exponent, true, true>(g);
+    else momentum_rate_run<K, Exponent, false, true>(g);
+  } else {
+    if (g.failure.failed) momentum_rate_run<K, Exponent, true, false>(g);
+    else momentum_rate_run<K, Exponent, false, false>(g);
+  }
 }
 }  // namespace
 
@@ -295,17 +328,21 @@ PairLoopIsa pair_loop_isa() {
 
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
                        const double* volume, bool corrected, double* L, double* condition, double* correction,
-                       std::size_t n, const BondFailure& failure) {
+                       std::size_t n, const BondFailure& failure, const double* h_point) {
   if (kernel == KernelKind::WendlandC2) {
     if (corrected)
-      velocity_gradient_impl<KernelKind::WendlandC2, true>(nl, h, x, v, volume, L, n, condition, correction, failure);
+      velocity_gradient_impl<KernelKind::WendlandC2, true>(nl, h, x, v, volume, L, n, condition, correction, failure,
+                                                           h_point);
     else
-      velocity_gradient_impl<KernelKind::WendlandC2, false>(nl, h, x, v, volume, L, n, condition, nullptr, failure);
+      velocity_gradient_impl<KernelKind::WendlandC2, false>(nl, h, x, v, volume, L, n, condition, nullptr, failure,
+                                                            h_point);
   } else {
     if (corrected)
-      velocity_gradient_impl<KernelKind::CubicSpline, true>(nl, h, x, v, volume, L, n, condition, correction, failure);
+      velocity_gradient_impl<KernelKind::CubicSpline, true>(nl, h, x, v, volume, L, n, condition, correction, failure,
+                                                            h_point);
     else
-      velocity_gradient_impl<KernelKind::CubicSpline, false>(nl, h, x, v, volume, L, n, condition, nullptr, failure);
+      velocity_gradient_impl<KernelKind::CubicSpline, false>(nl, h, x, v, volume, L, n, condition, nullptr, failure,
+                                                             h_point);
   }
 }
 
@@ -392,11 +429,13 @@ void momentum_rate_kernel(const MomentumArgs& g, bool stress) {
 void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const ArtificialViscosity& av,
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
                    const double* volume, const double* stress_c, const ArtificialStress& as, const double* R,
-                   const std::uint64_t* tension, double* acceleration, std::size_t n, const BondFailure& failure) {
+                   const std::uint64_t* tension, double* acceleration, std::size_t n, const BondFailure& failure,
+                   const double* h_point) {
   const bool stress = R != nullptr && as.epsilon > 0.0;
   const MomentumArgs g{&nl, x, v, mass, density, volume, stress_c, R, tension, acceleration, n, h,
                        av.eta * av.eta * h * h, av.alpha * sound_speed, av.beta,
-                       stress ? 1.0 / as.w_dx : 0.0, as.exponent, failure};
+                       stress ? 1.0 / as.w_dx : 0.0, as.exponent, failure, h_point, av.eta * av.eta,
+                       stress && h_point ? 1.0 / as.w_dx_unit : 0.0};
   if (kernel == KernelKind::WendlandC2) momentum_rate_kernel<KernelKind::WendlandC2>(g, stress);
   else momentum_rate_kernel<KernelKind::CubicSpline>(g, stress);
 }

@@ -32,9 +32,11 @@ void particle_volume(const double* mass, const double* density, double* volume, 
 /// M_i, or -1 where the correction fell back to the plain gradient. `correction` (may be null; only
 /// written when `corrected`) receives C_i = M_i^-1 (6 per particle, symmetric), I on fallback.
 /// `failure` (engine/bond_failure.hpp; default: none) leaves out the broken bonds under tension (eq. 113).
+/// `h_point` (default null: every pair has h): per-particle smoothing lengths of a scene of several
+/// spacings, for every point a list may name; a pair then uses h_ij = (h_i + h_j) / 2 (eq. 138).
 void velocity_gradient(const NeighbourList& nl, KernelKind kernel, double h, const double* x, const double* v,
                        const double* volume, bool corrected, double* L, double* condition, double* correction,
-                       std::size_t n, const BondFailure& failure = {});
+                       std::size_t n, const BondFailure& failure = {}, const double* h_point = nullptr);
 
 /// A_i = sigma_i C_i (9 per particle, row-major), sigma = S - p I, the per-particle half of the
 /// momentum equation (eq. 7); C null means C = I (no correction, eq. 7a). With correct_pressure false
@@ -58,6 +60,9 @@ struct ArtificialStress {
   double epsilon = 0.3;   ///< 0 disables the term (and its pass)
   double exponent = 4.0;  ///< n in f_ij = (W(r_ij)/W(dx))^n
   double w_dx = 0.0;      ///< W(dx, h), set by the core from the initial spacing
+  /// W(dx / h, 1): the same with h = 1, for variable spacing, where a pair's W(dx_ij, h_ij) is
+  /// this / h_ij^3 (eq. 139). Set by the core.
+  double w_dx_unit = 0.0;
 };
 
 /// Gray-Monaghan-Swift artificial stress R_i (6 per particle, theory eq. 9): in the principal
@@ -90,6 +95,6 @@ void momentum_rate(const NeighbourList& nl, KernelKind kernel, double h, const A
                    double sound_speed, const double* x, const double* v, const double* mass, const double* density,
                    const double* volume, const double* stress_c, const ArtificialStress& as, const double* R,
                    const std::uint64_t* tension, double* acceleration, std::size_t n,
-                   const BondFailure& failure = {});
+                   const BondFailure& failure = {}, const double* h_point = nullptr);
 
 }  // namespace sphforge

@@ -8,8 +8,10 @@ namespace sphforge {
 void deposit_tool_heat(const std::vector<ToolHeatRecord>& records, const NeighbourList& nl, KernelKind kernel,
                        double h, const double* x, const double* mass, double mass_scaling,
                        const std::int64_t* body, const std::vector<BodyRange>& bodies, double* heat_source,
-                       std::size_t n, const std::uint32_t* ghost_source) {
-  const double support = kernel_support_radius(h), support2 = support * support;
+                       std::size_t n, const std::uint32_t* ghost_source, const double* h_point) {
+  // With variable spacing (h_point) each pair's kernel has h_ij (eq. 138); its support is within
+  // that of the largest h, which the lists were built for.
+  auto pair_h = [&](std::size_t i, std::size_t j) { return h_point ? 0.5 * (h_point[i] + h_point[j]) : h; };
   // The real particle behind a list entry (a ghost's source, eq. 31).
   auto real = [&](std::size_t j) -> std::size_t { return ghost_source && j >= n ? ghost_source[j - n] : j; };
   // Sequential over the contacts (a small fraction of the particles): a contact scatters into
@@ -27,16 +29,17 @@ void deposit_tool_heat(const std::vector<ToolHeatRecord>& records, const Neighbo
     double wsum = 0.0;
     nl.for_each(i, [&](std::size_t j) {
       if (bodies[static_cast<std::size_t>(body[real(j)])].attached_tool != tool) return;
-      const double r2 = r2_to(j);
-      if (r2 < support2) wsum += kernel_value(kernel, std::sqrt(r2), h);
+      const double r2 = r2_to(j), hij = pair_h(i, j), support = kernel_support_radius(hij);
+      if (r2 < support * support) wsum += kernel_value(kernel, std::sqrt(r2), hij);
     });
     if (wsum > 0.0) {
       const double scale = rec.heat_W / wsum;
       nl.for_each(i, [&](std::size_t j) {
         const std::size_t r = real(j);
         if (bodies[static_cast<std::size_t>(body[r])].attached_tool != tool) return;
-        const double r2 = r2_to(j);
-        if (r2 < support2) heat_source[r] += scale * kernel_value(kernel, std::sqrt(r2), h) * mass_scaling / mass[r];
+        const double r2 = r2_to(j), hij = pair_h(i, j), support = kernel_support_radius(hij);
+        if (r2 < support * support)
+          heat_source[r] += scale * kernel_value(kernel, std::sqrt(r2), hij) * mass_scaling / mass[r];
       });
       continue;
     }

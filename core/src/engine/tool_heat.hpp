@@ -25,6 +25,6 @@ namespace sphforge {
 void deposit_tool_heat(const std::vector<ToolHeatRecord>& records, const NeighbourList& nl, KernelKind kernel,
                        double h, const double* x, const double* mass, double mass_scaling,
                        const std::int64_t* body, const std::vector<BodyRange>& bodies, double* heat_source,
-                       std::size_t n, const std::uint32_t* ghost_source);
+                       std::size_t n, const std::uint32_t* ghost_source, const double* h_point = nullptr);
 
 }  // namespace sphforge

@@ -45,6 +45,20 @@ class FrictionDrilling final : public Process {
     radius_ = 0.5 * p.number("sheet_diameter");
     thickness_ = p.number("sheet_thickness");
     spacing_ = p.number("particle_spacing");
+    refined_radius_ = 0.5 * p.number("refined_diameter");
+    fine_spacing_ = spacing_;
+    if (refined_radius_ > 0.0) {
+      // The refined centre (eq. 121c): the coarse lattice's cells within it split into ratio^3 cells.
+      fine_spacing_ = p.number("refined_spacing");
+      if (!(fine_spacing_ > 0.0) || fine_spacing_ >= spacing_)
+        p.fail("refined_spacing", "must be positive and finer than particle_spacing when refined_diameter is set");
+      refine_ratio_ = static_cast<int>(std::lround(spacing_ / fine_spacing_));
+      if (std::abs(refine_ratio_ * fine_spacing_ - spacing_) > 1e-9 * spacing_)
+        p.fail("refined_spacing", "particle_spacing must be a whole multiple of it (the refined cells tile the coarse ones)");
+      if (p.integer("sector_count") > 1)
+        p.fail("refined_diameter", "a refined centre needs the full disc (sector_count 1, no numerics.symmetry): the core "
+               "does not run a sector with particles of several spacings");
+    }
     clamp_width_ = p.number("clamp_width");
     clamp_temperature_ = p.number("clamp_temperature");
     far_radius_ = p.number("sheet_far_field_radius");
@@ -92,6 +106,8 @@ class FrictionDrilling final : public Process {
     band_inner_ = p.number("bushing_inner_radius") > 0.0 ? p.number("bushing_inner_radius") : drill_radius_;
     if (band_outer_ <= band_inner_) p.fail("bushing_outer_radius", "must exceed the bushing inner radius (default: the drill radius)");
     if (band_outer_ >= radius_ - clamp_width_) p.fail("bushing_outer_radius", "must lie inside the clamped rim");
+    if (refined_radius_ > 0.0 && refined_radius_ >= radius_ - clamp_width_ - 1.5 * spacing_)
+      p.fail("refined_diameter", "the refined centre must end inside the clamped rim and the far field's ring");
   }
 
   std::vector<FieldInfo> fields() const override {
@@ -105,17 +121,38 @@ class FrictionDrilling final : public Process {
     // the lattice's material volume ends at about R), layers at z = -t + (k + 1/2) dx. The
     // half-integer sites about the axis make the lattice map onto itself under 90 deg rotations
     // (a sector, docs/theory.md eq. 30).
+    // A refined centre (eq. 121c): every coarse cell whose centre lies within refined_radius is
+    // split into ratio^3 cells of the fine spacing, which tile it exactly, so the sheet's volume and
+    // surfaces are those of the coarse lattice.
     const int nr = static_cast<int>(std::ceil(radius_ / spacing_)) + 1;
     const int nz = std::max(2, static_cast<int>(std::lround(thickness_ / spacing_)));
     std::vector<Vec> sheet;
+    std::vector<double> sheet_spacing;
     for (int k = 0; k < nz; ++k)
       for (int j = -nr; j < nr; ++j)
         for (int i = -nr; i < nr; ++i) {
           const double x = (i + 0.5) * spacing_, y = (j + 0.5) * spacing_;
-          if (std::hypot(x, y) <= radius_ - 0.5 * spacing_ + 1e-9 * spacing_)
-            sheet.emplace_back(x, y, -thickness_ + (k + 0.5) * spacing_);
+          if (std::hypot(x, y) > radius_ - 0.5 * spacing_ + 1e-9 * spacing_) continue;
+          const double z = -thickness_ + (k + 0.5) * spacing_;
+          if (refined_radius_ > 0.0 && std::hypot(x, y) < refined_radius_) {
+            for (int c = 0; c < refine_ratio_; ++c)
+              for (int b = 0; b < refine_ratio_; ++b)
+                for (int a = 0; a < refine_ratio_; ++a) {
+                  const double o = -0.5 * spacing_ + 0.5 * fine_spacing_;  // first fine centre in the cell
+                  sheet.emplace_back(x + o + a * fine_spacing_, y + o + b * fine_spacing_, z + o + c * fine_spacing_);
+                  sheet_spacing.push_back(fine_spacing_);
+                }
+          } else {
+            sheet.emplace_back(x, y, z);
+            sheet_spacing.push_back(spacing_);
+          }
         }
-    sheet_body_ = scene.add_body("sheet", sheet, spacing_);
+    BodySpec sheet_spec;
+    sheet_spec.name = "sheet";
+    sheet_spec.positions = std::move(sheet);
+    sheet_spec.spacing_m = spacing_;
+    if (refined_radius_ > 0.0) sheet_spec.particle_spacings_m = std::move(sheet_spacing);
+    sheet_body_ = scene.add_body(std::move(sheet_spec));
     // The layers span nz dx; with t not a multiple of dx the top surface is at -t + nz dx.
     top_ = -thickness_ + nz * spacing_;
 
@@ -137,25 +174,27 @@ class FrictionDrilling final : public Process {
     // the body its volume. Without the move, a cubic lattice cut by the cones and the 3.7 mm
     // cylinder left the surface about 1.0 dx from its nearest drill particle instead of the
     // 0.65 dx of a lattice aligned with a flat wall (2026-12-06, eq. 122).
+    // With a refined centre the drill body takes the fine spacing, that of the sheet it touches.
+    const double ds = fine_spacing_;
     std::vector<Vec> body;
-    const int nb = static_cast<int>(std::ceil(drill_radius_ / spacing_)) + 1;
-    const int nzb = static_cast<int>(std::floor(drill_body_length_ / spacing_));
+    const int nb = static_cast<int>(std::ceil(drill_radius_ / ds)) + 1;
+    const int nzb = static_cast<int>(std::floor(drill_body_length_ / ds));
     Eigen::Vector2d normal;
     for (int k = 0; k < nzb; ++k)
       for (int j = -nb; j < nb; ++j)
         for (int i = -nb; i < nb; ++i) {
-          const double x = (i + 0.5) * spacing_, y = (j + 0.5) * spacing_, z = (k + 0.5) * spacing_;
+          const double x = (i + 0.5) * ds, y = (j + 0.5) * ds, z = (k + 0.5) * ds;
           const double r = std::hypot(x, y);
           const double d = profile_.signed_distance({r, z}, normal);
           if (d > 0.0) continue;
-          const double depth = (std::floor(-d / spacing_) + 0.5) * spacing_;
+          const double depth = (std::floor(-d / ds) + 0.5) * ds;
           const double move = -depth - d;  // along the outward normal, |move| <= dx/2
           // r >= dx/sqrt(2) on this lattice, so r_new > 0.2 dx: the site keeps its azimuth.
           const double r_new = r + move * normal.x(), z_new = z + move * normal.y();
           body.emplace_back(x * r_new / r, y * r_new / r, z_new + tip_start_);
         }
     if (body.empty()) throw std::invalid_argument("friction_drilling: the drill body holds no particle at this spacing");
-    scene.add_tool_body("drill_body", std::move(body), spacing_, drill_material_, "drill");
+    scene.add_tool_body("drill_body", std::move(body), ds, drill_material_, "drill");
   }
 
   void bind_signals(SignalBus& bus) override {
@@ -411,6 +450,8 @@ class FrictionDrilling final : public Process {
     m["final_process_time_s"] = process_time_;
     m["sheet_thickness_lattice_m"] = thickness_eff();
     m["sector_count"] = sectors_;
+    m["refined_diameter_m"] = 2.0 * refined_radius_;
+    m["refined_spacing_m"] = fine_spacing_;
     m["failed_particles"] = failed_;
     m["plastic_strain_max"] = plastic_strain_max_;
     if (far_radius_ > 0.0) {
@@ -456,13 +497,23 @@ class FrictionDrilling final : public Process {
     sheet.pressure = f.f64_if(field::pressure);
     sheet.deviatoric_stress = f.f64_if(field::deviatoric_stress);
     if (!sheet.pressure || !sheet.deviatoric_stress) sheet.failed = nullptr;
+    // A refined centre: each particle's link is bushing_link_distance x its own spacing / the coarse one, from its smoothing
+    // length relative to the largest (the coarse spacing's).
+    if (const double* hl = refined_radius_ > 0.0 ? f.f64_if(field::smoothing_length) : nullptr) {
+      double hmax = 0.0;
+      for (std::size_t i = 0; i < n; ++i) hmax = std::max(hmax, hl[i]);
+      link_of_.resize(n);
+      for (std::size_t i = 0; i < n; ++i) link_of_[i] = link_ * hl[i] / hmax;
+      sheet.link = link_of_.data();
+    }
     connectivity_.compute(sheet, link_, sectors_);
     const friction_drilling::BandExtremes e =
         friction_drilling::band_extremes(sheet, &connectivity_, band_inner_, band_outer_, rank_, highest_, lowest_);
     const double t = thickness_eff();
     if (e.found) {
-      upper_ = std::max(0.0, e.z_high + 0.5 * spacing_ - top_);
-      lower_ = std::max(0.0, (top_ - t) - (e.z_low - 0.5 * spacing_));
+      // The bushing's particles come from the hole: with a refined centre they have the fine spacing.
+      upper_ = std::max(0.0, e.z_high + 0.5 * fine_spacing_ - top_);
+      lower_ = std::max(0.0, (top_ - t) - (e.z_low - 0.5 * fine_spacing_));
     } else {
       upper_ = lower_ = 0.0;
     }
@@ -472,6 +523,10 @@ class FrictionDrilling final : public Process {
 
   // Parameters.
   double radius_ = 0.0, thickness_ = 0.0, spacing_ = 0.0, clamp_width_ = 0.0, stroke_ = 0.0, gap_ = 0.0;
+  // Refined centre (eq. 121c): radius (0: none), its spacing (= spacing_ without one), coarse / fine.
+  double refined_radius_ = 0.0, fine_spacing_ = 0.0;
+  int refine_ratio_ = 1;
+  std::vector<double> link_of_;
   double clamp_temperature_ = -1.0;
   double far_radius_ = 0.0, far_conductivity_ = 0.0, far_heat_capacity_ = 0.0;
   double drill_body_length_ = 0.0, probe_radius_ = 0.0, band_inner_ = 0.0, band_outer_ = 0.0;
@@ -517,6 +572,13 @@ const PluginDescriptor& descriptor() {
           ParamSpec::number("sheet_diameter", "m", 10e-3, "diameter of the sheet disc", 1e-6),
           ParamSpec::number("sheet_thickness", "m", 1.2e-3, "sheet thickness t (upper surface at z = 0)", 1e-6),
           ParamSpec::number("particle_spacing", "m", std::nullopt, "lattice spacing dx of the sheet and the drill body", 1e-7),
+          ParamSpec::number("refined_diameter", "m", 0.0,
+                            "diameter of a refined centre (eq. 121c; the paper: 5 mm): the coarse cells whose centres "
+                            "lie inside it are split into cells of refined_spacing; the full disc only (sector_count 1); "
+                            "0: one spacing everywhere", 0.0),
+          ParamSpec::number("refined_spacing", "m", 0.0,
+                            "particle spacing inside refined_diameter (the paper: 0.2 mm); particle_spacing must be a "
+                            "whole multiple of it; the drill body takes it too", 0.0),
           ParamSpec::number("clamp_width", "m", 0.5e-3, "width of the fixed rim ring at the sheet's edge (eq. 121)", 0.0),
           ParamSpec::number("clamp_temperature", "K", -1.0,
                             "temperature the clamped rim is held at (a heat sink, eq. 121a); -1: the rim is "

@@ -39,6 +39,9 @@ struct SheetParticles {
   const double* failed = nullptr;          ///< 1 per particle (field `failed`); null: no bond can break
   const double* pressure = nullptr;        ///< 1 per particle, Pa; read only with `failed`
   const double* deviatoric_stress = nullptr;  ///< 6 per particle (xx yy zz xy yz xz), Pa; only with `failed`
+  /// Per-particle link distance (variable spacing: 1.5 s_i), m; null: every pair has link_distance.
+  /// A pair is then linked when closer than the mean of its two, and link_distance must be the largest.
+  const double* link = nullptr;
 };
 
 class SheetConnectivity {
@@ -50,7 +53,7 @@ class SheetConnectivity {
     const std::size_t n = s.count;
     connected_.assign(n, 0);
     if (n == 0) return 0;
-    const double L = link_distance, L2 = L * L, inv = 1.0 / L;
+    const double L = link_distance, inv = 1.0 / L;
     parent_.resize(n);
     for (std::size_t i = 0; i < n; ++i) parent_[i] = i;
     size_.assign(n, 1);
@@ -90,7 +93,8 @@ class SheetConnectivity {
         if (j <= i) return;
         const Eigen::Vector3d xj(s.position[3 * j], s.position[3 * j + 1], s.position[3 * j + 2]);
         const Eigen::Vector3d d = xi - xj;
-        if (d.squaredNorm() >= L2) return;
+        const double Lij = s.link ? 0.5 * (s.link[i] + s.link[j]) : L;
+        if (d.squaredNorm() >= Lij * Lij) return;
         if (failure && bond_factor(s.failed[i], s.failed[j], &sigma_[6 * i], &sigma_[6 * j], d.x(), d.y(), d.z()) == 0.0)
           return;
         unite(i, j);
@@ -114,7 +118,8 @@ class SheetConnectivity {
           for_each_candidate(q, inv, [&](std::size_t j) {
             const Eigen::Vector3d xj(s.position[3 * j], s.position[3 * j + 1], s.position[3 * j + 2]);
             const Eigen::Vector3d d = xi - Q * xj;  // x_i minus the image of x_j
-            if (d.squaredNorm() >= L2) return;
+            const double Lij = s.link ? 0.5 * (s.link[i] + s.link[j]) : L;
+            if (d.squaredNorm() >= Lij * Lij) return;
             if (failure) {
               double sj[6];
               rotate_stress(Q, &sigma_[6 * j], sj);
