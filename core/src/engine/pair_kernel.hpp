@@ -96,18 +96,7 @@ struct PairKernel {
   }
   /// F(r) and W(r), both 0 beyond the support.
   SPHFORGE_PAIR_INLINE void factor_and_value(double r2, double& F, double& W) const {
-    const double q = std::sqrt(r2) * inv_h;
-    if constexpr (K == KernelKind::WendlandC2) {
-      const double t = std::max(0.0, 1.0 - 0.5 * q);
-      const double t3 = t * t * t;
-      F = f_scale * (-5.0) * t3;
-      W = w_scale * t3 * t * (2.0 * q + 1.0);
-    } else {
-      const double t = std::max(0.0, 2.0 - q);
-      const bool in = q < 1.0;
-      F = f_scale * (in ? -3.0 + 2.25 * q : -0.75 * t * t / q);
-      W = w_scale * (in ? 1.0 - 1.5 * q * q + 0.75 * q * q * q : 0.25 * t * t * t);
-    }
+    shape(std::sqrt(r2) * inv_h, f_scale, w_scale, F, W);
   }
   /// F(r) of a pair whose smoothing length is h (variable spacing, eq. 138: h = h_ij), the same
   /// formula with its constants computed for this pair.
@@ -118,20 +107,25 @@ struct PairKernel {
   }
   /// F(r) and W(r) of a pair with smoothing length h (eq. 138).
   SPHFORGE_PAIR_INLINE void factor_and_value_at(double r2, double h, double& F, double& W) const {
-    const double ih = 1.0 / h, ih3 = ih * ih * ih;
+    const double ih = 1.0 / h;
     const double sigma =
-        (K == KernelKind::WendlandC2 ? 21.0 / (16.0 * kernel_detail::kPi) : 1.0 / kernel_detail::kPi) * ih3;
-    const double q = std::sqrt(r2) * ih, fs = sigma * ih * ih;
+        (K == KernelKind::WendlandC2 ? 21.0 / (16.0 * kernel_detail::kPi) : 1.0 / kernel_detail::kPi) * ih * ih * ih;
+    shape(std::sqrt(r2) * ih, sigma * ih * ih, sigma, F, W);
+  }
+
+ private:
+  /// F = f_scale f(q) and W = w_scale w(q), the kernel's shape at q = r / h (eqs. 1-2).
+  static SPHFORGE_PAIR_INLINE void shape(double q, double f_scale, double w_scale, double& F, double& W) {
     if constexpr (K == KernelKind::WendlandC2) {
       const double t = std::max(0.0, 1.0 - 0.5 * q);
       const double t3 = t * t * t;
-      F = fs * (-5.0) * t3;
-      W = sigma * t3 * t * (2.0 * q + 1.0);
+      F = f_scale * (-5.0) * t3;
+      W = w_scale * t3 * t * (2.0 * q + 1.0);
     } else {
       const double t = std::max(0.0, 2.0 - q);
       const bool in = q < 1.0;
-      F = fs * (in ? -3.0 + 2.25 * q : -0.75 * t * t / q);  // q = 0 only selects inner
-      W = sigma * (in ? 1.0 - 1.5 * q * q + 0.75 * q * q * q : 0.25 * t * t * t);
+      F = f_scale * (in ? -3.0 + 2.25 * q : -0.75 * t * t / q);  // q = 0 only selects inner
+      W = w_scale * (in ? 1.0 - 1.5 * q * q + 0.75 * q * q * q : 0.25 * t * t * t);
     }
   }
 };
