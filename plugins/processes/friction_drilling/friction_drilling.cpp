@@ -497,8 +497,8 @@ class FrictionDrilling final : public Process {
     sheet.pressure = f.f64_if(field::pressure);
     sheet.deviatoric_stress = f.f64_if(field::deviatoric_stress);
     if (!sheet.pressure || !sheet.deviatoric_stress) sheet.failed = nullptr;
-    // A refined centre: each particle's link is bushing_link_distance x its own spacing / the coarse one, from its smoothing
-    // length relative to the largest (the coarse spacing's).
+    // A refined centre: each particle's link is the link distance x s_i / dx (eq. 121c), s_i / dx
+    // read from its smoothing length over the largest (the coarse particles').
     if (const double* hl = refined_radius_ > 0.0 ? f.f64_if(field::smoothing_length) : nullptr) {
       double hmax = 0.0;
       for (std::size_t i = 0; i < n; ++i) hmax = std::max(hmax, hl[i]);
@@ -523,7 +523,8 @@ class FrictionDrilling final : public Process {
 
   // Parameters.
   double radius_ = 0.0, thickness_ = 0.0, spacing_ = 0.0, clamp_width_ = 0.0, stroke_ = 0.0, gap_ = 0.0;
-  // Refined centre (eq. 121c): radius (0: none), its spacing (= spacing_ without one), coarse / fine.
+  // Refined centre (eq. 121c): radius (0: none), its spacing (= spacing_ without one), and
+  // refine_ratio_ = spacing_ / fine_spacing_.
   double refined_radius_ = 0.0, fine_spacing_ = 0.0;
   int refine_ratio_ = 1;
   std::vector<double> link_of_;
