@@ -8,7 +8,7 @@
 namespace sphforge {
 
 void PenaltyContact::configure(const ContactSettings& settings, std::vector<const ContactLaw*> laws,
-                               double spacing, double p_wave_modulus) {
+                               double spacing, double p_wave_modulus, double finest_spacing) {
   settings_ = settings;
   laws_ = std::move(laws);
   spacing_ = spacing;
@@ -19,6 +19,9 @@ void PenaltyContact::configure(const ContactSettings& settings, std::vector<cons
   // order of the bulk's own, so the contact does not need a smaller step than the CFL limit.
   // The paper's per-mass lambda1 = P / (2 dt^2) is this k divided by m (eq. 10a).
   stiffness_ = settings.stiffness_factor * p_wave_modulus * spacing;
+  // Several spacings (eq. 141): the laws' scalar stiffness (their tangential spring) is the finest
+  // particle's, which keeps that spring inside every particle's stability limit.
+  law_stiffness_ = finest_spacing > 0.0 ? stiffness_ * finest_spacing / spacing : stiffness_;
 }
 
 namespace {
@@ -96,13 +99,10 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
   const double contact_radius = 0.5 * spacing_;  // a particle's half-width touches the wall
   const double area = spacing_ * spacing_;
   const std::size_t n = a.n;
-  // Variable spacing (eq. 141): each particle's own half-width, area and stiffness; the culling
-  // below keeps the largest reach. The laws' scalar stiffness (their tangential spring) is the
-  // finest particle's, which keeps that spring inside every particle's stability limit.
-  const double* s_of = a.spacing;
-  double finest = spacing_;
-  if (s_of)
-    for (std::size_t i = 0; i < n; ++i) finest = std::min(finest, s_of[i]);
+  // Variable spacing (eq. 141): each touching particle's own half-width, area and stiffness, from its
+  // smoothing length; the culling below keeps the largest reach.
+  const double* h_of = a.smoothing_length;
+  auto spacing_of = [&](std::size_t i) { return h_of ? h_of[i] * a.spacing_per_h : spacing_; };
   const double* x = a.x;
   const double* v = a.v;
   // The per-particle indices: in the borrowed storage when it holds them (the pass scratch, idle
@@ -195,7 +195,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     const double range = law ? law->wall_range() : 0.0;
     auto touching = [&](std::size_t i) {
       if (slot_of_[i] == kFar) return false;
-      const double reach_i = s_of ? (0.5 + range) * s_of[i] : reach;
+      const double reach_i = h_of ? (0.5 + range) * spacing_of(i) : reach;
       return near_distance_[slot_of_[i]] < reach_i;
     };
     // Gather the touching particles in index order (deterministic).
@@ -217,8 +217,8 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
     batch_acc_.resize(3 * nc, lent_, used);
     batch_vwall_.resize(3 * nc, lent_, used);
     batch_area_.resize(nc, lent_, used);
-    if (s_of)
-      for (std::size_t c = 0; c < nc; ++c) batch_area_[c] = s_of[particle_[c]] * s_of[particle_[c]];
+    if (h_of)
+      for (std::size_t c = 0; c < nc; ++c) batch_area_[c] = spacing_of(particle_[c]) * spacing_of(particle_[c]);
     else
       std::fill(batch_area_.data(), batch_area_.data() + nc, area);
     batch_yield_.resize(nc, lent_, used);
@@ -236,9 +236,9 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       const Eigen::Vector3d v_wall = tool.surface_velocity(xi);
       const Eigen::Vector3d v_rel = Eigen::Vector3d(v[3 * i], v[3 * i + 1], v[3 * i + 2]) - v_wall;
       const double vn = v_rel.dot(nrm);
-      const double gap = (s_of ? 0.5 * s_of[i] : contact_radius) - near_distance_[k];
+      const double gap = (h_of ? 0.5 * spacing_of(i) : contact_radius) - near_distance_[k];
       // Damped penalty (eq. 11); a wall only pushes, never pulls.
-      const double k_i = s_of ? stiffness_ * s_of[i] / spacing_ : stiffness_;
+      const double k_i = h_of ? stiffness_ * spacing_of(i) / spacing_ : stiffness_;
       const double damping = 2.0 * settings_.damping_ratio * std::sqrt(k_i * a.mass[i]);
       const double fn = gap > 0.0 ? std::max(0.0, k_i * gap - damping * vn) : 0.0;
       // Tangential relative velocity: v - (v.n) n  (never a component-wise product).
@@ -270,7 +270,7 @@ std::size_t PenaltyContact::apply(std::vector<RigidTool>& tools, ContactArrays& 
       ContactBatch batch;
       batch.count = nc;
       batch.dt = a.dt;
-      batch.stiffness = stiffness_ * finest / spacing_;
+      batch.stiffness = law_stiffness_;
       batch.particle = particle_.data();
       batch.mass = batch_mass_.data();
       batch.normal = batch_normal_.data();

@@ -44,10 +44,12 @@ struct ContactArrays {
   /// Per tool (null: none does): 1 when it carries thermal particles that take its share of the
   /// friction heat (eq. 91); the pass then records that share per contact (PenaltyContact::tool_heat()).
   const unsigned char* tool_takes_heat = nullptr;
-  /// Per-particle spacing of a scene of several spacings (null: all have the configured one), eq. 141:
-  /// a particle's half-width s_i / 2 touches the wall, its share of the surface is s_i^2 and its
-  /// penalty stiffness k s_i / s. The configured spacing must then be the largest.
-  const double* spacing = nullptr;
+  /// Per-particle smoothing lengths of a scene of several spacings (null: all particles have the
+  /// configured spacing), eq. 141: particle i of spacing s_i = h_i spacing_per_h touches the wall at
+  /// s_i / 2, its share of the surface is s_i^2 and its penalty stiffness k s_i / s. The configured
+  /// spacing must then be the largest.
+  const double* smoothing_length = nullptr;
+  double spacing_per_h = 0.0;  ///< 1 / h_over_dx
   /// Storage idle during the pass (the caller's pass scratch) that it may use for its per-particle
   /// indices (12 bytes per particle) instead of holding its own; overwritten. Empty: none lent.
   std::span<double> borrow;
@@ -79,9 +81,10 @@ struct ToolContactStats {
 
 class PenaltyContact {
  public:
-  /// Tangential (friction) law for each tool, same order as the tools.
+  /// Tangential (friction) law for each tool, same order as the tools. `spacing`: the largest particle
+  /// spacing; `finest_spacing` (0: the same) the smallest, whose stiffness the laws get (eq. 141).
   void configure(const ContactSettings& settings, std::vector<const ContactLaw*> laws, double spacing,
-                 double p_wave_modulus);
+                 double p_wave_modulus, double finest_spacing = 0.0);
 
   /// Spring stiffness k (N/m) of one particle against a wall.
   double stiffness() const { return stiffness_; }
@@ -139,6 +142,7 @@ class PenaltyContact {
   ContactSettings settings_;
   std::vector<const ContactLaw*> laws_;
   double spacing_ = 0.0, stiffness_ = 0.0;
+  double law_stiffness_ = 0.0;  ///< the finest particle's stiffness, the laws' scalar k (eq. 141)
   double sticking_fraction_ = 0.0;
   std::vector<ToolContactStats> stats_;
   std::vector<ToolHeatRecord> tool_heat_;

@@ -11,6 +11,9 @@ namespace sphforge {
 
 namespace {
 
+// eta^2 / h^2 of eq. 20: keeps the 1/r^2 finite for coincident particles.
+constexpr double kConductionEta2 = 0.01;
+
 // The two pair passes follow the scheme of engine/pair_kernel.hpp: a per-particle function whose
 // neighbour loop is written for `omp simd` (decoded list, scalar accumulator, no branch), run over
 // all particles by for_each_particle() in the best instance the CPU has.
@@ -37,7 +40,7 @@ SPHFORGE_PAIR_INLINE double conduction_particle(const NeighbourList& nl, const P
     if constexpr (Variable) {
       const double hij = pair_smoothing_length(hi, h_point[j]);
       xgrad = kernel.factor_at(r2, hij) * r2;
-      eta2_ij = 0.01 * hij * hij;
+      eta2_ij = kConductionEta2 * hij * hij;
     } else {
       xgrad = kernel.factor(r2) * r2;
     }
@@ -77,7 +80,7 @@ template <KernelKind K>
 void heat_conduction_impl(const NeighbourList& nl, double h, const double* x, const double* volume, const double* T,
                           const double* k, double* heat_W, std::size_t n, const double* h_point) {
   const PairKernel<K> kernel(h);
-  const double eta2 = 0.01 * h * h;  // keeps the 1/r^2 finite for coincident particles (eq. 20)
+  const double eta2 = kConductionEta2 * h * h;
   if (h_point)
     for_each_particle(n, [&](std::size_t i) SPHFORGE_PAIR_LAMBDA {
       heat_W[i] += conduction_particle<K, true>(nl, kernel, eta2, h_point, x, volume, T, k, i);

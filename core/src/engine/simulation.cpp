@@ -657,10 +657,14 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     passes_.push_back({"integrate_temperature", {temperature_rate}, {temperature}});
   }
   // Variable spacing (theory section 19): particles of several spacings each get the smoothing length
-  // of their own, h_i = h_over_dx s_i, and a pair uses h_ij = (h_i + h_j) / 2 (eq. 138).
+  // of their own, h_i = h_over_dx s_i, and a pair uses h_ij = (h_i + h_j) / 2 (eq. 138). smin, smax:
+  // over the particles created; the scene's spacing (h, the contact, eq. 10) is the largest body
+  // spacing, empty bodies included, or the largest particle spacing if that is larger.
+  double smin = std::numeric_limits<double>::infinity(), smax = 0.0;
+  spacing_ = 0.0;  // every body spacing is > 0 (add_body)
   {
-    double smin = std::numeric_limits<double>::infinity(), smax = 0.0;
     for (const BodySpec& b : builder.bodies) {  // (add_body checked one spacing per particle)
+      spacing_ = std::max(spacing_, b.spacing_m);
       if (b.particle_spacings_m.empty()) {
         if (!b.positions.empty()) smin = std::min(smin, b.spacing_m), smax = std::max(smax, b.spacing_m);
       } else {
@@ -670,6 +674,7 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
         }
       }
     }
+    spacing_ = std::max(spacing_, smax);
     variable_spacing_ = smax > smin * (1.0 + 1e-9);
     if (variable_spacing_) {
       const std::string why = " is not implemented for particles of several spacings (this case has " +
@@ -698,17 +703,8 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
   for (const auto& b : builder.bodies) count_ += b.positions.size();
   if (count_ == 0) throw InputError(file, "/process", "the process created no particles");
   fields_.allocate(count_);
-  spacing_ = builder.bodies.front().spacing_m;
-  double spacing_min = std::numeric_limits<double>::infinity();
-  for (const auto& b : builder.bodies) {
-    if (b.positions.empty()) continue;
-    spacing_ = std::max(spacing_, b.spacing_m);
-    spacing_min = std::min(spacing_min, b.spacing_m);
-    for (double s : b.particle_spacings_m) spacing_ = std::max(spacing_, s), spacing_min = std::min(spacing_min, s);
-  }
-  if (!variable_spacing_) spacing_min = spacing_;
   h_ = settings_.h_over_dx * spacing_;
-  h_min_ = settings_.h_over_dx * spacing_min;
+  h_min_ = variable_spacing_ ? settings_.h_over_dx * smin : h_;
   settings_.artificial_stress.w_dx = kernel_value(settings_.kernel, spacing_, h_);
   settings_.artificial_stress.w_dx_unit = kernel_value(settings_.kernel, 1.0 / settings_.h_over_dx, 1.0);  // eq. 139
   double* smoothing_length = variable_spacing_ ? fields_.f64(field::smoothing_length) : nullptr;
@@ -783,7 +779,8 @@ Simulation::Simulation(const CaseDocument& doc, PluginLoader& loader) : case_fil
     const auto first_mechanical = std::find_if(bodies_.begin(), bodies_.end(), [](const BodyRange& b) { return b.mechanics; });
     const Material& work = *materials_[first_mechanical->material];
     const double c0 = work.wave_speed();
-    contact_.configure(settings_.contact, tool_laws, spacing_, work.reference_density() * c0 * c0);
+    contact_.configure(settings_.contact, tool_laws, spacing_, work.reference_density() * c0 * c0,
+                       variable_spacing_ ? smin : 0.0);
   }
   if (need_yield_) yield_scratch_.resize(count_);
   process_columns_ = process_->history_columns();
@@ -1238,13 +1235,8 @@ void Simulation::mechanics_rates() {
     // The pass scratch is dead after the momentum pass (until the next step's build): it lends the
     // contact pass the room for its 12 bytes of indices per particle.
     ca.borrow = scratch_;
-    if (variable_spacing_) {
-      // Each particle's own spacing (eq. 141), from its smoothing length.
-      const double* hl = smoothing_lengths();
-      contact_spacing_.resize(n);
-      for (std::size_t i = 0; i < n; ++i) contact_spacing_[i] = hl[i] / settings_.h_over_dx;
-      ca.spacing = contact_spacing_.data();
-    }
+    ca.smoothing_length = smoothing_lengths();  // each particle's own spacing (eq. 141)
+    ca.spacing_per_h = 1.0 / settings_.h_over_dx;
     contacts_ = contact_.apply(tools_, ca);
     contact_time_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - contact_start).count();
   }

@@ -233,8 +233,7 @@ class Simulation {
   /// length in the field `smoothing_length`; h_ is then the largest and h_min_ the smallest.
   bool variable_spacing_ = false;
   double h_min_ = 0.0;
-  std::vector<double> point_support_;    ///< 2 h_i per point of a list build (eq. 140)
-  std::vector<double> contact_spacing_;  ///< s_i = h_i / h_over_dx for the contact pass (eq. 141)
+  std::vector<double> point_support_;  ///< 2 h_i per point of a list build (eq. 140)
   /// The per-particle smoothing lengths (null with one spacing), and the supports 2 h_i for a
   /// neighbour build over the first `count` particles (null with one spacing).
   const double* smoothing_lengths() const;

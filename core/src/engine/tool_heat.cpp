@@ -1,5 +1,7 @@
 #include "engine/tool_heat.hpp"
 
+#include "engine/pair_kernel.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -11,7 +13,9 @@ void deposit_tool_heat(const std::vector<ToolHeatRecord>& records, const Neighbo
                        std::size_t n, const std::uint32_t* ghost_source, const double* h_point) {
   // With variable spacing (h_point) each pair's kernel has h_ij (eq. 138); its support is within
   // that of the largest h, which the lists were built for.
-  auto pair_h = [&](std::size_t i, std::size_t j) { return h_point ? 0.5 * (h_point[i] + h_point[j]) : h; };
+  auto pair_h = [&](std::size_t i, std::size_t j) {
+    return h_point ? pair_smoothing_length(h_point[i], h_point[j]) : h;
+  };
   // The real particle behind a list entry (a ghost's source, eq. 31).
   auto real = [&](std::size_t j) -> std::size_t { return ghost_source && j >= n ? ghost_source[j - n] : j; };
   // Sequential over the contacts (a small fraction of the particles): a contact scatters into
