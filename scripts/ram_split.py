@@ -10,6 +10,8 @@ measures the parts in the frames particles_NNNNNN.vtu whose ram displacement lie
   land P_2    the axial stress -sigma_zz = p - s_zz, volume-weighted over slabs |z - z_c| < dx/2 of the
               land's cross-section (r < D/2 + dx), slab centres 1 mm apart from 1 mm below the land top
               to 1 mm above the exit, fitted by a straight line and evaluated at the land top
+  land top    the same stress in the slab centred on the land top, less P_2: the step the stress takes
+              within dx of the entry corner, which the straight line leaves out
   barrel      axial contact force of the particles within 1.2 dx of the barrel wall, above z = 1 mm and
               more than 2 mm below the highest particle (the ram face), over the barrel area
   entry P_1   P_ex - barrel - P_2, with P_ex the history's extrusion pressure at the frame
@@ -131,6 +133,10 @@ def main():
             raise SystemExit(f"{path}: fewer than two occupied slabs in the land; check --land-top and --land-exit")
         gradient, intercept = np.polyfit(centres, profile, 1)
         p2 = gradient * z_top + intercept
+        # The slab centred on the land's top straddles the entry corner; its mean stress less the
+        # fit's value there is the step the stress takes within dx of the corner.
+        top = bore & (np.abs(z - z_top) < 0.5 * dx)
+        top_stress = (volume[top] * axial_stress[top]).sum() / volume[top].sum() if top.any() else float("nan")
         barrel = (r > R0 - 1.2 * dx) & (z > 1e-3) & (z < z.max() - 2e-3)
         p_barrel = sectors * fz[barrel].sum() / A0
         land = bore & (z <= z_top - 1e-3) & (z >= z_exit + 1e-3)
@@ -141,7 +147,7 @@ def main():
         # wall's force is (contacts x dx^2 / wall area) x the law's stress at the contacts' own slip.
         touching = wall & (np.abs(f["contact_force"]).sum(axis=1) > 0)
         slip = np.maximum(-f["velocity"][touching, 2], 0.0)
-        row = {"u": u, "p_ex": p_ex, "barrel": p_barrel, "p2": p2, "p1": p_ex - p_barrel - p2,
+        row = {"u": u, "p_ex": p_ex, "barrel": p_barrel, "p2": p2, "p1": p_ex - p_barrel - p2, "top_step": top_stress - p2,
                "tau_gradient": gradient * Rd / 2, "speed": speed, "wall_speed": wall_speed,
                "tau_wall": sectors * fz[land].sum() / (2 * math.pi * Rd * inner_length),
                "packing": sectors * volume[land].sum() / (math.pi * Rd * Rd * inner_length),
@@ -177,6 +183,8 @@ def main():
     print(f"  P_ex: window mean {p_window/1e6:.3f} MPa (history), at the frames {mean['p_ex']/1e6:.3f} MPa")
     print(f"  barrel {mean['barrel']/1e6:.3f} MPa | land P_2 {mean['p2']/1e6:.3f} MPa (+-{sem('p2')/1e6:.3f}) | "
           f"entry P_1 {mean['p1']/1e6:.3f} MPa (+-{sem('p1')/1e6:.3f})  [+-: standard error over the frames]")
+    print(f"  land top: -sigma_zz in the slab |z - z_top| < dx/2 exceeds P_2 by {mean['top_step']/1e6:.3f} MPa "
+          f"(+-{sem('top_step')/1e6:.3f}): the step within dx of the entry corner")
     print(f"  land: tau from the stress gradient {mean['tau_gradient']/1e3:.1f} kPa, from the wall {mean['tau_wall']/1e3:.1f} kPa; "
           f"speed {mean['speed']:.4f} m/s (next to the wall {mean['wall_speed']:.4f}; V_ex {v_window:.4f}), tau_w there {tau_w(mean['speed'])/1e3:.1f} kPa; "
           f"packing {mean['packing']:.3f}")
