@@ -123,20 +123,25 @@ def main():
         z, r = x[:, 2], np.hypot(x[:, 0], x[:, 1])
         fz = f["contact_force"][:, 2]
         bore = r < Rd + dx
+
+        def slab_stress(zc):
+            """-sigma_zz volume-weighted over the bore's slab |z - zc| < dx/2; NaN where it is empty."""
+            s = bore & (np.abs(z - zc) < 0.5 * dx)
+            return (volume[s] * axial_stress[s]).sum() / volume[s].sum() if s.any() else float("nan")
+
         centres, profile = [], []
         for zc in slabs:  # empty slabs (a land shorter than 2 mm plus dx, a gap) are skipped
-            s = bore & (np.abs(z - zc) < 0.5 * dx)
-            if s.any():
+            stress = slab_stress(zc)
+            if not math.isnan(stress):
                 centres.append(zc)
-                profile.append((volume[s] * axial_stress[s]).sum() / volume[s].sum())
+                profile.append(stress)
         if len(centres) < 2:
             raise SystemExit(f"{path}: fewer than two occupied slabs in the land; check --land-top and --land-exit")
         gradient, intercept = np.polyfit(centres, profile, 1)
         p2 = gradient * z_top + intercept
         # The slab centred on the land's top straddles the entry corner; its mean stress less the
         # fit's value there is the step the stress takes within dx of the corner.
-        top = bore & (np.abs(z - z_top) < 0.5 * dx)
-        top_stress = (volume[top] * axial_stress[top]).sum() / volume[top].sum() if top.any() else float("nan")
+        top_stress = slab_stress(z_top)
         barrel = (r > R0 - 1.2 * dx) & (z > 1e-3) & (z < z.max() - 2e-3)
         p_barrel = sectors * fz[barrel].sum() / A0
         land = bore & (z <= z_top - 1e-3) & (z >= z_exit + 1e-3)
