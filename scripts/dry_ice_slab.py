@@ -2,21 +2,23 @@
 """Slab (Sachs) estimate of the dry-ice ram force for the 13 dies (docs/theory.md eq. 88), an analytic
 yardstick for the SPH F_L of docs/validation/dry_ice.md. Same model as the cases: elastic-perfectly-
 plastic, sigma_y = 3.5 MPa, Coulomb mu = 0.1, barrel D = 28 mm, outlet d = 16 mm, die profiles of
-eqs. 83-84 (WK outward, WP inward), billet H_1 = 27.1 mm above the die entry.
+eqs. 83-84 (WK outward, WP inward), billet H_1 above the die entry (--billet, mm; default the cases').
 
 What the estimate leaves out, so it is a lower estimate of a fully plastic flow, not a bound: redundant
 shear at the die entry and exit, friction in the land (the extrudate leaves the cone at zero axial
 stress), elastic springback. Prints one row per die and the ratio to the experimental median.
 
-  python3 scripts/dry_ice_slab.py
+  python3 scripts/dry_ice_slab.py [--billet 80]
 """
+import argparse
 import csv
 import math
 import os
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MU, SIGMA_Y, NU = 0.1, 3.5e6, 0.46
-D, D_OUT, H_BILLET = 28e-3, 16e-3, 27.1e-3
+D, D_OUT = 28e-3, 16e-3
+BILLET_MM = 27.1  # the bundled cases' billet above the die entry (cases/ram_extrusion/dry_ice/README.md)
 R0, R1 = D / 2, D_OUT / 2
 
 
@@ -53,6 +55,9 @@ def entry_stress(row, steps=20000):
 
 
 def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--billet", type=float, default=BILLET_MM, help="billet height above the die entry, mm")
+    h_billet = parser.parse_args().billet * 1e-3
     with open(os.path.join(ROOT, "cases", "ram_extrusion", "reference", "dry_ice_dies.csv"), newline="") as f:
         dies = list(csv.DictReader(f))
     with open(os.path.join(ROOT, "cases", "ram_extrusion", "reference", "dry_ice_force_public.csv"), newline="") as f:
@@ -64,8 +69,8 @@ def main():
         s = entry_stress(row)
         # The billet above the entry: wall pressure K sigma, K = nu / (1 - nu) when it is elastic and
         # confined, K = 1 when it yields (p = sigma + sigma_y, the sigma_y dropped): eq. 88b.
-        f_el = s * math.exp(4 * MU * NU / (1 - NU) * H_BILLET / D) * area
-        f_pl = s * math.exp(4 * MU * H_BILLET / D) * area
+        f_el = s * math.exp(4 * MU * NU / (1 - NU) * h_billet / D) * area
+        f_pl = s * math.exp(4 * MU * h_billet / D) * area
         e = exp.get(row["die"])
         measured = f"{e:.0f} | {f_pl / e:.2f}" if e else "held out |"
         print(f"| {row['die']} | {s / 1e6:.2f} | {f_el:.0f} | {f_pl:.0f} | {measured} |")
