@@ -12,13 +12,13 @@ stress), elastic springback. Prints one row per die and the ratio to the experim
 """
 import argparse
 import csv
+import json
 import math
 import os
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MU, SIGMA_Y, NU = 0.1, 3.5e6, 0.46
 D, D_OUT = 28e-3, 16e-3
-BILLET_MM = 27.1  # the bundled cases' billet above the die entry (cases/ram_extrusion/dry_ice/README.md)
 R0, R1 = D / 2, D_OUT / 2
 
 
@@ -54,9 +54,20 @@ def entry_stress(row, steps=20000):
     return sigma
 
 
+def cases_billet_mm():
+    """The bundled cases' billet height above the die entry (every die shares it), read from a case file
+    so that the default follows the cases."""
+    with open(os.path.join(ROOT, "cases", "ram_extrusion", "dry_ice", "dry_ice_CS50.json")) as f:
+        value, unit = json.load(f)["process"]["billet_height"].split()
+    if unit != "mm":
+        raise SystemExit(f"dry_ice_CS50.json: /process/billet_height in {unit}, expected mm")
+    return float(value)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--billet", type=float, default=BILLET_MM, help="billet height above the die entry, mm")
+    parser.add_argument("--billet", type=float, default=cases_billet_mm(),
+                        help="billet height above the die entry, mm (default: the bundled cases')")
     h_billet = parser.parse_args().billet * 1e-3
     with open(os.path.join(ROOT, "cases", "ram_extrusion", "reference", "dry_ice_dies.csv"), newline="") as f:
         dies = list(csv.DictReader(f))
