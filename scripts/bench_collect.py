@@ -156,14 +156,16 @@ def main():
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 5))
-    for c in cases:
+    # tab10 repeats after ten lines; tab20 keeps up to twenty cases apart (the dry-ice bench has 13).
+    colours = plt.cm.tab10 if len(cases) <= 10 else plt.cm.tab20
+    for i, c in enumerate(cases):
         rows = [r for r in all_rows if r["case"] == c]
         pts = [(r["wall_s"], abs(r[f"{a.metric}_error_1"])) for r in rows
                if r[f"{a.metric}_error_1"] not in (None, 0.0) and r["wall_s"]]
         if not pts:
             continue
         style = "-o" if rows[0]["reference"] != "finest spacing" else "--s"
-        ax.plot([x for x, _ in pts], [y for _, y in pts], style, label=c)
+        ax.plot([x for x, _ in pts], [y for _, y in pts], style, label=c, color=colours(i % colours.N))
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("wall time (s)")
