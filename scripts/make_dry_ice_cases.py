@@ -16,7 +16,8 @@ BILLET = "80 mm"
 
 # Resolution and run length of the two variants (README.md in OUT explains the choice). The full
 # variant's 6 mm of stroke holds the force peak of the seven published dies at dx = 1 mm (1.4-3.7 mm
-# of ram travel); WP45's force still rises by 2.3 % up to 9.65 mm (docs/validation/dry_ice.md).
+# of ram travel); WP45's force still rises by 2.3 % up to 9.65 mm, and WP20's by 9.4 % to the end of a
+# 14 mm stroke (docs/validation/dry_ice.md).
 VARIANTS = {
     "": dict(spacing="1 mm", stroke="6 mm", end="1.3 s", mass_scaling=1e4,
              output="0.3 s", history="0.01 s", checkpoint="0.3 s"),
