@@ -7,15 +7,16 @@
 
 Per run (history.csv): the largest ram force over the first TRAVEL mm of ram travel and where it is,
 the mean ram force over the rows in WINDOW (mm of travel), and the barrel's share of the ram force over
-1 mm .. TRAVEL (barrel_force_z_N times summary.json's sector_count over ram_force_N: the tool forces
+min(1 mm, TRAVEL / 2) .. TRAVEL (barrel_force_z_N times summary.json's sector_count over ram_force_N: the tool forces
 are the sector's, the ram force the full circle's). The runs may have different strokes; only rows
 with u <= TRAVEL count, so every run is read over the same travel.
 
 Then, for both force measures, the observed order p and the limit F0 of F(h) = F0 + C h^p through the
 three finest spacings (docs/validation/dry_ice.md; p solves (F1 - F2) / (F2 - F3) = (h1^p - h2^p) /
-(h2^p - h3^p)), and the limits with p = 1 and p = 2 from the two finest. No positive p exists when the
-force falls by more per unit spacing at the finer pair than at the coarser one, and an order below 0.5
-says the spacings are not in the asymptotic range; both are printed instead of a limit.
+(h2^p - h3^p)), and the limits with p = 1 and p = 2 from the two finest. No order exists when the
+force is not monotone in the spacing, no positive one when it changes by more per unit spacing at the
+finer pair than at the coarser one, and an order below 0.5 says the spacings are not in the asymptotic
+range; each is printed instead of a limit.
 """
 import argparse
 import json
@@ -40,7 +41,7 @@ def read_run(run, travel_mm, window_mm):
     F = h["ram_force_N"]
     peak = max(rows, key=lambda i: F[i])
     win = [i for i in rows if window_mm[0] <= u[i] <= window_mm[1]]
-    share_rows = [i for i in rows if u[i] >= 1.0]
+    share_rows = [i for i in rows if u[i] >= min(1.0, travel_mm / 2)]
     share = sum(-h["barrel_force_z_N"][i] * sectors for i in share_rows) / sum(F[i] for i in share_rows)
     return {"peak": F[peak], "at": u[peak], "plateau": sum(F[i] for i in win) / len(win), "rows": len(win),
             "share": share}
@@ -85,8 +86,10 @@ def main():
     for key, name in (("peak", "largest"), ("plateau", "plateau")):
         F = [d[key] / 1e3 for _, d in data[-3:]]
         p = observed_order(h, F)
-        if p is None:
-            head = f"{name}: no positive order (the force falls by more per unit spacing at the finer pair)"
+        if (F[0] - F[1]) * (F[1] - F[2]) <= 0:
+            head = f"{name}: not monotone in the spacing, no order"
+        elif p is None:
+            head = f"{name}: no positive order (the force changes by more per unit spacing at the finer pair)"
         elif p < 0.5:
             head = f"{name}: order {p:.2f}, too low to extrapolate (not in the asymptotic range)"
         else:
