@@ -6,17 +6,17 @@
         2=RUN_2MM 1=RUN_1MM 0.6667=RUN_2_3MM 0.5=RUN_0_5MM
 
 Per run (history.csv): the largest ram force over the first TRAVEL mm of ram travel and where it is,
-the mean ram force over the rows in WINDOW (mm of travel), and the barrel's share of the ram force over
-min(1 mm, TRAVEL / 2) .. TRAVEL (barrel_force_z_N times summary.json's sector_count over ram_force_N: the tool forces
-are the sector's, the ram force the full circle's). The runs may have different strokes; only rows
-with u <= TRAVEL count, so every run is read over the same travel.
+the mean ram force over the rows in WINDOW (mm of travel), and the barrel's share of the ram force
+over min(1 mm, TRAVEL / 2) .. TRAVEL (barrel_force_z_N times summary.json's sector_count over
+ram_force_N: the tool forces are the sector's, the ram force the full circle's). The runs may have
+different strokes; only rows with u <= TRAVEL count, so every run is read over the same travel.
 
 Then, for both force measures, the observed order p and the limit F0 of F(h) = F0 + C h^p through the
 three finest spacings (docs/validation/dry_ice.md; p solves (F1 - F2) / (F2 - F3) = (h1^p - h2^p) /
 (h2^p - h3^p)), and the limits with p = 1 and p = 2 from the two finest. No order exists when the
-force is not monotone in the spacing, no positive one when it changes by more per unit spacing at the
-finer pair than at the coarser one, and an order below 0.5 says the spacings are not in the asymptotic
-range; each is printed instead of a limit.
+force is not monotone in the spacing, no positive one when it changes by more per unit of log
+spacing at the finer pair than at the coarser one, and an order below 0.5 says the spacings are not
+in the asymptotic range; each is printed instead of a limit.
 """
 import argparse
 import json
@@ -73,7 +73,10 @@ def main():
     ap.add_argument("--window", type=float, nargs=2, default=[1.5, 2.0], help="plateau window (mm of travel)")
     ap.add_argument("--measured", type=float, help="the measured F_L (kN), for the errors")
     a = ap.parse_args()
-    runs = sorted(((float(s.split("=", 1)[0]), s.split("=", 1)[1]) for s in a.runs), reverse=True)
+    try:
+        runs = sorted(((float(s.split("=", 1)[0]), s.split("=", 1)[1]) for s in a.runs), reverse=True)
+    except (ValueError, IndexError):
+        ap.error("each run is DX_MM=RUN_FOLDER, e.g. 0.5=runs/CS50_dx0.5")
     data = [(dx, read_run(run, a.travel, a.window)) for dx, run in runs]
     err = lambda F: f" ({(F / a.measured - 1) * 100:+.1f} %)" if a.measured else ""
     for dx, d in data:
@@ -89,7 +92,8 @@ def main():
         if (F[0] - F[1]) * (F[1] - F[2]) <= 0:
             head = f"{name}: not monotone in the spacing, no order"
         elif p is None:
-            head = f"{name}: no positive order (the force changes by more per unit spacing at the finer pair)"
+            head = (f"{name}: no positive order "
+                    "(the force changes by more per unit of log spacing at the finer pair)")
         elif p < 0.5:
             head = f"{name}: order {p:.2f}, too low to extrapolate (not in the asymptotic range)"
         else:
