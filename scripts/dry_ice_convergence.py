@@ -20,7 +20,6 @@ in the asymptotic range; each is printed instead of a limit.
 """
 import argparse
 import json
-import math
 import os
 import sys
 
@@ -29,11 +28,11 @@ from run_output import load_history  # noqa: E402
 
 
 def read_run(run, travel_mm, window_mm):
-    h = load_history(run)
     if not os.path.exists(f"{run}/summary.json"):
         sys.exit(f"{run}: no summary.json (the run has not ended), so no sector count")
     with open(f"{run}/summary.json") as f:
         sectors = json.load(f)["metrics"].get("sector_count", 1.0)
+    h = load_history(run)
     u = [x * 1e3 for x in h["ram_displacement_m"]]
     rows = [i for i, x in enumerate(u) if x <= travel_mm + 1e-9]
     if not rows or u[rows[-1]] < window_mm[1] - 0.05:
@@ -48,8 +47,9 @@ def read_run(run, travel_mm, window_mm):
 
 
 def observed_order(h, F):
-    """p of F = F0 + C h^p through three spacings h[0] > h[1] > h[2]; None if no positive p fits."""
-    r = (F[0] - F[1]) / (F[1] - F[2]) if F[1] != F[2] else math.inf
+    """p of F = F0 + C h^p through three spacings h[0] > h[1] > h[2], for F monotone in h; None if no
+    positive p fits."""
+    r = (F[0] - F[1]) / (F[1] - F[2])
     ratio = lambda p: (h[0] ** p - h[1] ** p) / (h[1] ** p - h[2] ** p)
     lo, hi = 1e-6, 20.0  # ratio(p) rises monotonically with p for h[0] > h[1] > h[2]
     if not ratio(lo) < r < ratio(hi):
@@ -88,7 +88,7 @@ def main():
     h = [dx for dx, _ in data[-3:]]
     for key, name in (("peak", "largest"), ("plateau", "plateau")):
         F = [d[key] / 1e3 for _, d in data[-3:]]
-        p = observed_order(h, F)
+        p = observed_order(h, F) if (F[0] - F[1]) * (F[1] - F[2]) > 0 else None
         if (F[0] - F[1]) * (F[1] - F[2]) <= 0:
             head = f"{name}: not monotone in the spacing, no order"
         elif p is None:
