@@ -6,16 +6,19 @@
         2=RUN_2MM 1=RUN_1MM 0.6667=RUN_2_3MM 0.5=RUN_0_5MM
 
 Per run (history.csv): the largest ram force over the first TRAVEL mm of ram travel and where it is,
-the mean ram force over the rows in WINDOW (mm of travel), and the barrel's share of the ram force
-over min(1 mm, TRAVEL / 2) .. TRAVEL (barrel_force_z_N times summary.json's sector_count over
-ram_force_N: the tool forces are the sector's, the ram force the full circle's). The runs may have
-different strokes; only rows with u <= TRAVEL count, so every run is read over the same travel.
+the mean ram force over the rows in WINDOW (mm of travel), the barrel's share of the ram force over
+min(1 mm, TRAVEL / 2) .. TRAVEL (barrel_force_z_N times summary.json's sector_count over ram_force_N:
+the tool forces are the sector's, the ram force the full circle's), and over WINDOW the mean barrel
+and die forces (z, full circle) and the axial stress at 1.5 R0 above the die entry
+(section_pressure_Pa). The runs may have different strokes; only rows with u <= TRAVEL count, so
+every run is read over the same travel.
 
-Then, for both force measures, the observed order p and the limit F0 of F(h) = F0 + C h^p through the
-three finest spacings (docs/validation/dry_ice.md; p solves (F1 - F2) / (F2 - F3) = (h1^p - h2^p) /
-(h2^p - h3^p)), and the limits with p = 1 and p = 2 from the two finest. No order exists when the
-force is not monotone in the spacing, no positive one when it changes by more per unit of log
-spacing at the finer pair than at the coarser one, and an order below 0.5 says the spacings are not
+Then, for both ram-force measures and for the window's barrel force, die force and section stress,
+the observed order p and the limit F0 of F(h) = F0 + C h^p through the three finest spacings
+(docs/validation/dry_ice.md; p solves (F1 - F2) / (F2 - F3) = (h1^p - h2^p) / (h2^p - h3^p)), and
+the limits with p = 1 and p = 2 from the two finest. No order exists when the quantity is not
+monotone in the spacing, no positive one when it changes by more per unit of log spacing at the
+finer pair than at the coarser one, and an order below 0.5 says the spacings are not
 in the asymptotic range; each is printed instead of a limit.
 """
 import argparse
@@ -42,8 +45,13 @@ def read_run(run, travel_mm, window_mm):
     win = [i for i in rows if window_mm[0] <= u[i] <= window_mm[1]]
     share_rows = [i for i in rows if u[i] >= min(1.0, travel_mm / 2)]
     share = sum(-h["barrel_force_z_N"][i] * sectors for i in share_rows) / sum(F[i] for i in share_rows)
+    # Where the plateau's ram force goes: the barrel's friction and the die's resistance (z forces on
+    # the tools, the sector's times the sector count), and the axial stress at 1.5 R0 above the die entry.
+    # (NaN where an older history lacks the column.)
+    win_mean = lambda key, scale=1.0: (sum(h[key][i] for i in win) * scale / len(win)) if key in h else float("nan")
     return {"peak": F[peak], "at": u[peak], "plateau": sum(F[i] for i in win) / len(win), "rows": len(win),
-            "share": share}
+            "share": share, "barrel": win_mean("barrel_force_z_N", -sectors),
+            "die": win_mean("die_force_z_N", -sectors), "section": win_mean("section_pressure_Pa")}
 
 
 def observed_order(h, F):
@@ -83,24 +91,33 @@ def main():
         print(f"dx {dx:.4g} mm: largest (u <= {a.travel:g} mm) {d['peak'] / 1e3:.2f} kN{err(d['peak'] / 1e3)} "
               f"at {d['at']:.2f} mm; mean {a.window[0]:g}-{a.window[1]:g} mm {d['plateau'] / 1e3:.2f} kN "
               f"({d['rows']} rows); barrel share {d['share'] * 100:.1f} %")
+        print(f"    over {a.window[0]:g}-{a.window[1]:g} mm: barrel {d['barrel'] / 1e3:.2f} kN, die {d['die'] / 1e3:.2f} kN, "
+              f"section at 1.5 R0 {d['section'] / 1e6:.2f} MPa")
     if len(data) < 3:
         return
     h = [dx for dx, _ in data[-3:]]
-    for key, name in (("peak", "largest"), ("plateau", "plateau")):
-        F = [d[key] / 1e3 for _, d in data[-3:]]
+    for key, name, scale, unit in (("peak", "largest", 1e-3, "kN"), ("plateau", "plateau", 1e-3, "kN"),
+                                   ("barrel", "barrel over the window", 1e-3, "kN"),
+                                   ("die", "die over the window", 1e-3, "kN"),
+                                   ("section", "section over the window", 1e-6, "MPa")):
+        F = [d[key] * scale for _, d in data[-3:]]
+        # The errors against the measurement belong to the ram force only.
+        e = err if key in ("peak", "plateau") else (lambda F: "")
+        if any(x != x for x in F):
+            print(f"{name}: not in every history")
+            continue
         p = observed_order(h, F) if (F[0] - F[1]) * (F[1] - F[2]) > 0 else None
         if (F[0] - F[1]) * (F[1] - F[2]) <= 0:
             head = f"{name}: not monotone in the spacing, no order"
         elif p is None:
             head = (f"{name}: no positive order "
-                    "(the force changes by more per unit of log spacing at the finer pair)")
+                    "(it changes by more per unit of log spacing at the finer pair)")
         elif p < 0.5:
             head = f"{name}: order {p:.2f}, too low to extrapolate (not in the asymptotic range)"
         else:
-            head = f"{name}: order {p:.2f}, limit {limit(h, F, p):.2f} kN{err(limit(h, F, p))}"
-        print(f"{head}; p = 1: {limit(h, F, 1):.2f} kN{err(limit(h, F, 1))}; "
-              f"p = 2: {limit(h, F, 2):.2f} kN{err(limit(h, F, 2))}")
-
+            head = f"{name}: order {p:.2f}, limit {limit(h, F, p):.2f} {unit}{e(limit(h, F, p))}"
+        print(f"{head}; p = 1: {limit(h, F, 1):.2f} {unit}{e(limit(h, F, 1))}; "
+              f"p = 2: {limit(h, F, 2):.2f} {unit}{e(limit(h, F, 2))}")
 
 if __name__ == "__main__":
     main()
