@@ -45,11 +45,11 @@ def read_run(run, travel_mm, window_mm):
     win = [i for i in rows if window_mm[0] <= u[i] <= window_mm[1]]
     share_rows = [i for i in rows if u[i] >= min(1.0, travel_mm / 2)]
     share = sum(-h["barrel_force_z_N"][i] * sectors for i in share_rows) / sum(F[i] for i in share_rows)
-    # Where the plateau's ram force goes: the barrel's friction and the die's resistance (z forces on
-    # the tools, the sector's times the sector count), and the axial stress at 1.5 R0 above the die entry.
-    # (NaN where an older history lacks the column.)
+    # Means over the window (NaN where an older history lacks the column): the ram force (the plateau)
+    # and where it goes, the barrel's friction and the die's resistance (z forces on the tools, the
+    # sector's times the sector count), and the axial stress at 1.5 R0 above the die entry.
     win_mean = lambda key, scale=1.0: (sum(h[key][i] for i in win) * scale / len(win)) if key in h else float("nan")
-    return {"peak": F[peak], "at": u[peak], "plateau": sum(F[i] for i in win) / len(win), "rows": len(win),
+    return {"peak": F[peak], "at": u[peak], "plateau": win_mean("ram_force_N"), "rows": len(win),
             "share": share, "barrel": win_mean("barrel_force_z_N", -sectors),
             "die": win_mean("die_force_z_N", -sectors), "section": win_mean("section_pressure_Pa")}
 
@@ -106,8 +106,9 @@ def main():
         if any(x != x for x in F):
             print(f"{name}: not in every history")
             continue
-        p = observed_order(h, F) if (F[0] - F[1]) * (F[1] - F[2]) > 0 else None
-        if (F[0] - F[1]) * (F[1] - F[2]) <= 0:
+        monotone = (F[0] - F[1]) * (F[1] - F[2]) > 0
+        p = observed_order(h, F) if monotone else None
+        if not monotone:
             head = f"{name}: not monotone in the spacing, no order"
         elif p is None:
             head = (f"{name}: no positive order "
@@ -118,6 +119,7 @@ def main():
             head = f"{name}: order {p:.2f}, limit {limit(h, F, p):.2f} {unit}{e(limit(h, F, p))}"
         print(f"{head}; p = 1: {limit(h, F, 1):.2f} {unit}{e(limit(h, F, 1))}; "
               f"p = 2: {limit(h, F, 2):.2f} {unit}{e(limit(h, F, 2))}")
+
 
 if __name__ == "__main__":
     main()
