@@ -64,20 +64,7 @@ class RamExtrusion final : public Process {
             points.emplace_back(0.0, 0.0, (k + 0.5) * spacing_);
             continue;
           }
-          const double circumference = 2.0 * std::numbers::pi * (q == 0 ? barrel_radius_ : r);
-          // With a sector of 360/N deg (numerics.symmetry) every ring holds a multiple of N
-          // particles, so that the ring maps onto itself and the core's clip (theory.md eq. 30)
-          // keeps exactly 1/N of it; N = 1 is the plain rounding.
-          const int count = sectors_ * std::max(1, static_cast<int>(std::lround(circumference / (spacing_ * sectors_))));
-          // Staggered rings and layers. In a sector the angles are shifted by a quarter of the
-          // pitch so that no particle lies on a cut (theta = 0 or 360/N deg): one there would be
-          // kept twice, once as itself at theta ~ 360/N - eps (round-off) and once as the ghost of
-          // its twin at theta = 0 (eq. 79; measured: 1768 particles in the sector for 7016 / 4).
-          const double phase = 0.5 * ((q + k) % 2) + (sectors_ > 1 ? 0.25 : 0.0);
-          for (int a = 0; a < count; ++a) {
-            const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
-            points.emplace_back(r * std::cos(angle), r * std::sin(angle), (k + 0.5) * spacing_);
-          }
+          append_ring(points, r, q == 0 ? barrel_radius_ : r, (k + 0.5) * spacing_, (q + k) % 2);
         }
     } else {
       for (int k = 0; k < nz; ++k)
@@ -299,6 +286,29 @@ class RamExtrusion final : public Process {
   // Lattice points of the material already in the die cavity (the dry-ice paper's residual
   // compressed material): the billet's lattice (cubic or rings) continued below z = 0, kept dx/2
   // inside the die wall (the contact distance, as for the billet at the barrel) and above the exit.
+  /// One polar ring of the rings lattice (theory.md eq. 79) at radius r and height z, for the billet
+  /// and the die fill alike; its count follows from the circumference at `count_radius` (the wall's
+  /// radius for the outer ring, whose contact areas then add up to the wall's). `stagger` (0 or 1)
+  /// shifts alternate rings and layers by half a pitch.
+  void append_ring(std::vector<Eigen::Vector3d>& points, double r, double count_radius, double z, int stagger) const {
+    const double circumference = 2.0 * std::numbers::pi * count_radius;
+    // With a sector of 360/N deg (numerics.symmetry) every ring holds a multiple of N particles,
+    // so that the ring maps onto itself and the core's clip (theory.md eq. 30) keeps exactly 1/N
+    // of it; N = 1 is the plain rounding. Otherwise the pitch across a cut differs from the pitch
+    // within the sector: a gap or a near-pair at every cut.
+    const int count = sectors_ * std::max(1, static_cast<int>(std::lround(circumference / (spacing_ * sectors_))));
+    // In a sector the angles are shifted by a quarter of the pitch so that no particle lies on a
+    // cut (theta = 0 or 360/N deg): one there would be kept twice, once as itself at
+    // theta ~ 360/N - eps (round-off) and once as the ghost of its twin at theta = 0, the two on
+    // top of each other for the whole run (eq. 79; measured: 1768 particles in the sector for
+    // 7016 / 4, and in the die fill before it used this routine, 6 coincident pairs at dx = 1 mm).
+    const double phase = 0.5 * stagger + (sectors_ > 1 ? 0.25 : 0.0);
+    for (int a = 0; a < count; ++a) {
+      const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
+      points.emplace_back(r * std::cos(angle), r * std::sin(angle), z);
+    }
+  }
+
   void append_die_fill(std::vector<Eigen::Vector3d>& points) const {
     const ToolProfile wall = die_.profile(barrel_radius_);
     const int nr = static_cast<int>(std::ceil(barrel_radius_ / spacing_));
@@ -321,13 +331,7 @@ class RamExtrusion final : public Process {
             points.emplace_back(0.0, 0.0, z);
             break;
           }
-          const double circumference = 2.0 * std::numbers::pi * (q == 0 ? lo + 0.5 * spacing_ : r);
-          const int count = std::max(1, static_cast<int>(std::lround(circumference / spacing_)));
-          const double phase = 0.5 * ((q + k + 2 * std::abs(kmin)) % 2);  // staggered rings and layers
-          for (int a = 0; a < count; ++a) {
-            const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
-            points.emplace_back(r * std::cos(angle), r * std::sin(angle), z);
-          }
+          append_ring(points, r, q == 0 ? lo + 0.5 * spacing_ : r, z, (q + k + 2 * std::abs(kmin)) % 2);
           if (r < 0.75 * spacing_) break;  // the next ring would sit on the axis side of the centre
         }
         continue;
