@@ -244,3 +244,44 @@ TEST(Symmetry, RegionWrapAndGhosts) {
     nl.for_each(i, [&](std::size_t j) { any_ghost = any_ghost || j >= n; });
   EXPECT_TRUE(any_ghost);
 }
+
+TEST(Symmetry, FindsParticlesOnOneSpotDirectlyOrThroughTheGroup) {
+  // A ring of 12 sites at r = 5 mm in a 90 deg sector, clipped as the core clips (eq. 30).
+  const Symmetry quarter(sector(90.0));
+  const double dx = 2.0 * kPi * 5e-3 / 12.0, tolerance = 1e-6 * dx;
+  auto ring = [&](double phase) {
+    std::vector<Vec> kept;
+    for (int a = 0; a < 12; ++a) {
+      const double angle = 2.0 * kPi * (a + phase) / 12.0;
+      const Vec x(5e-3 * std::cos(angle), 5e-3 * std::sin(angle), 1e-3);
+      if (quarter.inside(x)) kept.push_back(x);
+    }
+    return kept;
+  };
+  // Phase 1/4 (eq. 79): three sites, none on a cut, the pitch kept across the cuts: no pair.
+  const std::vector<Vec> shifted = ring(0.25);
+  ASSERT_EQ(shifted.size(), 3u);
+  EXPECT_EQ(quarter.find_coincident(shifted, dx, tolerance), std::make_pair(shifted.size(), shifted.size()));
+  // Phase 0: the site at theta = 0 is kept, and its twin at theta = 90 deg is kept too when round-off
+  // puts it at 90 deg - eps (here cos(pi/2) > 0 leaves it at 90 deg exactly, so it is placed by
+  // hand, 1e-18 m off the axis x = 0); the twin is the image of the first under the rotation by 90 deg.
+  std::vector<Vec> on_cut = ring(0.0);
+  ASSERT_EQ(on_cut.size(), 3u);
+  on_cut.emplace_back(1e-18, 5e-3, 1e-3);
+  ASSERT_TRUE(quarter.inside(on_cut.back()));
+  const auto [i, j] = quarter.find_coincident(on_cut, dx, tolerance);
+  ASSERT_LT(i, on_cut.size());
+  EXPECT_NE(i, j);
+  EXPECT_NEAR(std::min(std::atan2(on_cut[i].y(), on_cut[i].x()), std::atan2(on_cut[j].y(), on_cut[j].x())), 0.0, 1e-12);
+  // Without symmetry the ring's sites are a pitch apart; a copied site is found directly.
+  const Symmetry none;
+  EXPECT_EQ(none.find_coincident(on_cut, dx, tolerance).first, on_cut.size());
+  std::vector<Vec> copied = shifted;
+  copied.push_back(shifted[1] + Vec(0.3 * tolerance, 0.0, 0.0));
+  EXPECT_EQ(none.find_coincident(copied, dx, tolerance), std::make_pair(std::size_t(1), std::size_t(3)));
+  // A site on a mirror plane is its own image, not a pair.
+  SymmetrySettings mirror;
+  mirror.mirror_planes = {plane(Vec::Zero(), Vec::UnitX())};
+  const std::vector<Vec> on_plane = {Vec(0.0, 1e-3, 0.0), Vec(1e-3, 1e-3, 0.0)};
+  EXPECT_EQ(Symmetry(mirror).find_coincident(on_plane, 1e-3, 1e-9).first, on_plane.size());
+}

@@ -341,9 +341,27 @@ class Simulation::Builder : public SceneBuilder {
         throw std::invalid_argument("body '" + body.name + "' has no particle inside the symmetry region "
                                     "(numerics.symmetry)");
     }
+    reject_coincident_particles(body);
     bodies.push_back(std::move(body));
     return bodies.size() - 1;
   }
+  /// Two particles of one body on one spot, directly or through the symmetry (eq. 30a), would stay
+  /// together for the whole run: refused, naming where (a process's lattice must keep its sites off
+  /// the cuts; the ram_extrusion die fill once did not, docs/validation/dry_ice.md).
+  void reject_coincident_particles(const BodySpec& body) const {
+    double finest = body.spacing_m;
+    for (double s : body.particle_spacings_m) finest = std::min(finest, s);
+    const Symmetry none;
+    const auto [i, j] = (symmetry ? *symmetry : none).find_coincident(body.positions, finest, 1e-6 * finest);
+    if (i == body.positions.size()) return;
+    const Eigen::Vector3d& x = body.positions[i];
+    throw std::invalid_argument("body '" + body.name + "': particles " + std::to_string(i) + " and " +
+                                std::to_string(j) + " lie on one spot (" + std::to_string(x[0]) + ", " +
+                                std::to_string(x[1]) + ", " + std::to_string(x[2]) +
+                                ") m, directly or through numerics.symmetry (a lattice site on a symmetry "
+                                "cut is kept twice); shift the lattice off the cuts");
+  }
+
   std::size_t add_tool(RigidTool tool) override {
     tools.push_back(std::move(tool));
     return tools.size() - 1;

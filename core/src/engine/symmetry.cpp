@@ -7,6 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
 #include "sphforge/fields.hpp"
 
@@ -177,6 +178,49 @@ std::size_t Symmetry::wrap_range(FieldRegistry& fields, std::size_t first, std::
     }
   }
   return moves.size();
+}
+
+std::pair<std::size_t, std::size_t> Symmetry::find_coincident(const std::vector<Vec>& x, double cell,
+                                                              double tolerance) const {
+  const std::size_t n = x.size();
+  using Cell = std::array<long long, 3>;
+  struct CellHash {
+    std::size_t operator()(const Cell& c) const {
+      return static_cast<std::size_t>(c[0] * 73856093LL ^ c[1] * 19349663LL ^ c[2] * 83492791LL);
+    }
+  };
+  auto cell_of = [cell](const Vec& y) {
+    return Cell{static_cast<long long>(std::floor(y[0] / cell)), static_cast<long long>(std::floor(y[1] / cell)),
+                static_cast<long long>(std::floor(y[2] / cell))};
+  };
+  std::unordered_map<Cell, std::vector<std::size_t>, CellHash> grid;
+  grid.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) grid[cell_of(x[i])].push_back(i);
+  // Another particle within `tolerance` of y: the cells of y -+ tolerance (one cell unless y lies
+  // that close to a cell face).
+  auto other_at = [&](const Vec& y, std::size_t self) {
+    const Cell lo = cell_of(y - Vec::Constant(tolerance)), hi = cell_of(y + Vec::Constant(tolerance));
+    for (long long a = lo[0]; a <= hi[0]; ++a)
+      for (long long b = lo[1]; b <= hi[1]; ++b)
+        for (long long c = lo[2]; c <= hi[2]; ++c) {
+          const auto it = grid.find(Cell{a, b, c});
+          if (it == grid.end()) continue;
+          for (std::size_t j : it->second)
+            if (j != self && (x[j] - y).norm() < tolerance) return j;
+        }
+    return n;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (const std::size_t j = other_at(x[i], i); j < n) return {i, j};
+    // An image can only meet a particle of the region if it lies within `tolerance` of the region.
+    // A particle that is its own image (on a mirror plane) is not a pair.
+    for (const SymmetryImage& g : images_) {
+      const Vec y = g.Q * x[i] + g.t;
+      if (distance_bound(y) > tolerance) continue;
+      if (const std::size_t j = other_at(y, i); j < n) return {j, i};
+    }
+  }
+  return {n, n};
 }
 
 void Symmetry::select(const double* x, std::size_t n, double range) {

@@ -55,6 +55,15 @@ class Symmetry {
   /// A lower bound of the distance from y to the simulated region (0 inside).
   double distance_bound(const Eigen::Vector3d& y) const;
 
+  /// Two particles of a scene on one spot (closer than `tolerance`), directly or through the group:
+  /// particle i and the image Q x_j + t of particle j. Such a pair doubles the mass there for the
+  /// whole run, since nothing separates it (the kernel's gradient vanishes at r = 0); a lattice
+  /// site on a cut does it, kept once as itself and once, after round-off, as its twin on the other
+  /// cut (docs/theory.md eq. 30a). Returns the first pair (i, j) found, or (n, n) when there is none.
+  /// Works without symmetry too (then only direct pairs). O(n) with a hash of cells of size `cell`.
+  std::pair<std::size_t, std::size_t> find_coincident(const std::vector<Eigen::Vector3d>& x, double cell,
+                                                      double tolerance) const;
+
   /// Moves every real particle in [0, n) that left the region back into it: the group element
   /// that maps it inside is applied to all of its fields (position: Q x + t; other 3-component
   /// fields Q v; 6-component symmetric tensors Q S Q^T; 9-component tensors Q A Q^T; other
