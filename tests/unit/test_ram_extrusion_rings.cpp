@@ -29,6 +29,7 @@ struct RingCheck {
   std::size_t rings = 0, cavity_rings = 0;
   double worst_pitch_error = 0.0;  // largest |gap - pitch| / pitch over all gaps, the cut's included
   double closest_to_cut = 1.0;     // smallest distance of a particle to a cut, in pitches
+  double smallest_chord = 1e30;    // smallest distance of neighbours on a ring (m)
 };
 
 /// Groups the particles of a built scene by layer and radius (the rings) and measures each ring's
@@ -56,6 +57,7 @@ RingCheck check_rings(const std::string& case_file, const std::vector<std::strin
       const double gap = a + 1 < angles.size() ? angles[a + 1] - angles[a] : angles.front() + sector - angles.back();
       out.worst_pitch_error = std::max(out.worst_pitch_error, std::abs(gap - pitch) / pitch);
     }
+    out.smallest_chord = std::min(out.smallest_chord, 2.0 * (key.second * 1e-9) * std::sin(0.5 * pitch));
     out.closest_to_cut = std::min({out.closest_to_cut, angles.front() / pitch, (sector - angles.back()) / pitch});
   }
   return out;
@@ -72,6 +74,20 @@ TEST(RamExtrusionRings, DryIceCavityAndBilletKeepTheirPitchAcrossTheSectorCuts) 
   EXPECT_LT(c.worst_pitch_error, 1e-9) << c.rings << " rings";
   // A quarter of a pitch from each cut (the phase 1/4 or 3/4 of eq. 79); 0 when a particle sat on the cut.
   EXPECT_GT(c.closest_to_cut, 0.25 - 1e-9);
+  // No ring crowds its particles closer than dx / sqrt(2) (the billet's innermost ring, 4 at r = dx/2).
+  EXPECT_GT(c.smallest_chord, 2e-3 / std::sqrt(2.0) * (1.0 - 1e-6));
+}
+
+TEST(RamExtrusionRings, NoRingNearTheAxisCrowdsItsParticles) {
+  // WK70 at 3 mm: the die fill's innermost ring lies 0.45 dx from the axis; four particles there
+  // were 0.64 dx apart and the run blew up at step 190 (sphforge bench, 2026-12-07).
+  for (const char* dx : {"3 mm", "2 mm"}) {
+    const RingCheck c = check_rings(std::string(SPHFORGE_SOURCE_DIR) + "/cases/ram_extrusion/dry_ice/dry_ice_WK70.json",
+                                    {std::string("process.particle_spacing=") + dx});
+    const double spacing = std::stod(dx) * 1e-3;
+    EXPECT_GT(c.smallest_chord, spacing / std::sqrt(2.0) * (1.0 - 1e-6)) << dx;
+    EXPECT_LT(c.worst_pitch_error, 1e-9) << dx;
+  }
 }
 
 TEST(RamExtrusionRings, ConicalPasteCavityKeepsItsPitchAcrossTheSectorCuts) {

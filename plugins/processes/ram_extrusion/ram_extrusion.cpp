@@ -303,9 +303,15 @@ class RamExtrusion final : public Process {
     // top of each other for the whole run (eq. 79; measured: 1768 particles in the sector for
     // 7016 / 4, and in the die fill before it used this routine, 6 coincident pairs at dx = 1 mm).
     const double phase = 0.5 * stagger + (sectors_ > 1 ? 0.25 : 0.0);
+    // A sector's ring holds at least N particles; near the axis (a die fill's innermost ring can
+    // lie at 0.25-0.75 dx) they would crowd closer than dx / sqrt(2), the nearest pair of the billet's
+    // innermost ring (4 at r = dx/2), and that ring blew up (WK70 at dx = 2 and 3 mm, step 180-190):
+    // such a ring moves out to the radius where its chord is dx / sqrt(2).
+    const double min_radius = spacing_ / (2.0 * std::numbers::sqrt2 * std::sin(std::numbers::pi / count));
+    const double radius = r < min_radius ? min_radius : r;
     for (int a = 0; a < count; ++a) {
       const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
-      points.emplace_back(r * std::cos(angle), r * std::sin(angle), z);
+      points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), z);
     }
   }
 
