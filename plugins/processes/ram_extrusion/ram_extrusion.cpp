@@ -283,9 +283,6 @@ class RamExtrusion final : public Process {
     }
   }
 
-  // Lattice points of the material already in the die cavity (the dry-ice paper's residual
-  // compressed material): the billet's lattice (cubic or rings) continued below z = 0, kept dx/2
-  // inside the die wall (the contact distance, as for the billet at the barrel) and above the exit.
   /// One polar ring of the rings lattice (theory.md eq. 79) at radius r and height z, for the billet
   /// and the die fill alike; its count follows from the circumference at `count_radius` (the wall's
   /// radius for the outer ring, whose contact areas then add up to the wall's). `stagger` (0 or 1)
@@ -308,13 +305,16 @@ class RamExtrusion final : public Process {
     // innermost ring (4 at r = dx/2), and that ring blew up (WK70 at dx = 2 and 3 mm, step 180-190):
     // such a ring moves out to the radius where its chord is dx / sqrt(2).
     const double min_radius = spacing_ / (2.0 * std::numbers::sqrt2 * std::sin(std::numbers::pi / count));
-    const double radius = r < min_radius ? min_radius : r;
+    const double radius = count > 1 && r < min_radius ? min_radius : r;  // one particle: no pair to crowd
     for (int a = 0; a < count; ++a) {
       const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
       points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), z);
     }
   }
 
+  // Lattice points of the material already in the die cavity (the dry-ice paper's residual
+  // compressed material): the billet's lattice (cubic or rings) continued below z = 0, kept dx/2
+  // inside the die wall (the contact distance, as for the billet at the barrel) and above the exit.
   void append_die_fill(std::vector<Eigen::Vector3d>& points) const {
     const ToolProfile wall = die_.profile(barrel_radius_);
     const int nr = static_cast<int>(std::ceil(barrel_radius_ / spacing_));
