@@ -352,7 +352,7 @@ class Simulation::Builder : public SceneBuilder {
     double finest = body.spacing_m;
     for (double s : body.particle_spacings_m) finest = std::min(finest, s);
     const Symmetry none;
-    const auto [i, j] = (symmetry ? *symmetry : none).find_coincident(body.positions, finest, 1e-6 * finest);
+    const auto [i, j] = (symmetry ? *symmetry : none).find_coincident(body.positions, 0.5 * finest, 1e-6 * finest);
     if (i == body.positions.size()) return;
     const Eigen::Vector3d& x = body.positions[i];
     throw std::invalid_argument("body '" + body.name + "': particles " + std::to_string(i) + " and " +

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
+#include "engine/neighbours.hpp"
 #include "sphforge/fields.hpp"
 
 namespace sphforge {
@@ -180,45 +180,35 @@ std::size_t Symmetry::wrap_range(FieldRegistry& fields, std::size_t first, std::
   return moves.size();
 }
 
-std::pair<std::size_t, std::size_t> Symmetry::find_coincident(const std::vector<Vec>& x, double cell,
+std::pair<std::size_t, std::size_t> Symmetry::find_coincident(const std::vector<Vec>& x, double search_radius,
                                                               double tolerance) const {
   const std::size_t n = x.size();
-  using Cell = std::array<long long, 3>;
-  struct CellHash {
-    std::size_t operator()(const Cell& c) const {
-      return static_cast<std::size_t>(c[0] * 73856093LL ^ c[1] * 19349663LL ^ c[2] * 83492791LL);
-    }
-  };
-  auto cell_of = [cell](const Vec& y) {
-    return Cell{static_cast<long long>(std::floor(y[0] / cell)), static_cast<long long>(std::floor(y[1] / cell)),
-                static_cast<long long>(std::floor(y[2] / cell))};
-  };
-  std::unordered_map<Cell, std::vector<std::size_t>, CellHash> grid;
-  grid.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) grid[cell_of(x[i])].push_back(i);
-  // Another particle within `tolerance` of y: the cells of y -+ tolerance (one cell unless y lies
-  // that close to a cell face).
-  auto other_at = [&](const Vec& y, std::size_t self) {
-    const Cell lo = cell_of(y - Vec::Constant(tolerance)), hi = cell_of(y + Vec::Constant(tolerance));
-    for (long long a = lo[0]; a <= hi[0]; ++a)
-      for (long long b = lo[1]; b <= hi[1]; ++b)
-        for (long long c = lo[2]; c <= hi[2]; ++c) {
-          const auto it = grid.find(Cell{a, b, c});
-          if (it == grid.end()) continue;
-          for (std::size_t j : it->second)
-            if (j != self && (x[j] - y).norm() < tolerance) return j;
-        }
-    return n;
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    if (const std::size_t j = other_at(x[i], i); j < n) return {i, j};
-    // An image can only meet a particle of the region if it lies within `tolerance` of the region.
-    // A particle that is its own image (on a mirror plane) is not a pair.
+  // The points searched: the particles [0, n), then every image that lies within `tolerance` of the
+  // region (only those can meet a particle of it), each remembering its source particle.
+  std::vector<double> points;
+  std::vector<std::size_t> source;
+  points.reserve(3 * n);
+  for (const Vec& xi : x) points.insert(points.end(), {xi[0], xi[1], xi[2]});
+  for (std::size_t i = 0; i < n; ++i)
     for (const SymmetryImage& g : images_) {
       const Vec y = g.Q * x[i] + g.t;
       if (distance_bound(y) > tolerance) continue;
-      if (const std::size_t j = other_at(y, i); j < n) return {j, i};
+      points.insert(points.end(), {y[0], y[1], y[2]});
+      source.push_back(i);
     }
+  // The core's cell list, with lists for the particles only; a lattice has no pair closer than
+  // `search_radius` (half its spacing), so the lists are nearly empty.
+  NeighbourList lists;
+  lists.build(points.data(), n + source.size(), search_radius, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::pair<std::size_t, std::size_t> found{n, n};
+    lists.for_each(i, [&](std::size_t k) {
+      const Vec pk(points[3 * k], points[3 * k + 1], points[3 * k + 2]);
+      if (found.first < n || (pk - x[i]).norm() >= tolerance) return;
+      const std::size_t j = k < n ? k : source[k - n];
+      if (j != i) found = {i, j};  // a particle on a mirror plane is its own image, not a pair
+    });
+    if (found.first < n) return found;
   }
   return {n, n};
 }

@@ -60,8 +60,10 @@ class Symmetry {
   /// whole run, since nothing separates it (the kernel's gradient vanishes at r = 0); a lattice
   /// site on a cut does it, kept once as itself and once, after round-off, as its twin on the other
   /// cut (docs/theory.md eq. 30a). Returns the first pair (i, j) found, or (n, n) when there is none.
-  /// Works without symmetry too (then only direct pairs). O(n) with a hash of cells of size `cell`.
-  std::pair<std::size_t, std::size_t> find_coincident(const std::vector<Eigen::Vector3d>& x, double cell,
+  /// Works without symmetry too (then only direct pairs). Searched with the core's cell list
+  /// (engine/neighbours.hpp) of radius `search_radius` >= `tolerance` (half the spacing: a lattice
+  /// then lists almost no pair).
+  std::pair<std::size_t, std::size_t> find_coincident(const std::vector<Eigen::Vector3d>& x, double search_radius,
                                                       double tolerance) const;
 
   /// Moves every real particle in [0, n) that left the region back into it: the group element
