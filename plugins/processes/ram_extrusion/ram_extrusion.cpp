@@ -303,9 +303,13 @@ class RamExtrusion final : public Process {
     // A sector's ring holds at least N particles; near the axis (a die fill's innermost ring can
     // lie at 0.25-0.75 dx) they would crowd closer than dx / sqrt(2), the nearest pair of the billet's
     // innermost ring (4 at r = dx/2), and that ring blew up (WK70 at dx = 2 and 3 mm, step 180-190):
-    // such a ring moves out to the radius where its chord is dx / sqrt(2).
+    // such a ring moves out to the radius where its chord is dx / sqrt(2). A ring at a wall
+    // (count_radius > r: the outer one, dx/2 from the barrel or the die) never moves: outwards it
+    // would start inside the wall's contact band (CS50 at dx = 4 mm: a 16-particle ring in the
+    // taper moved 0.33 mm into it, a 3.7 kN kick at step 1 and `unstable` at step 10).
     const double min_radius = spacing_ / (2.0 * std::numbers::sqrt2 * std::sin(std::numbers::pi / count));
-    const double radius = count > 1 && r < min_radius ? min_radius : r;  // one particle: no pair to crowd
+    const bool at_wall = count_radius > r;
+    const double radius = count > 1 && !at_wall && r < min_radius ? min_radius : r;  // one particle: no pair
     for (int a = 0; a < count; ++a) {
       const double angle = 2.0 * std::numbers::pi * (a + phase) / count;
       points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), z);
