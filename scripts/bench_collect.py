@@ -140,7 +140,7 @@ def main():
             err = r[f"{a.metric}_error_1"]
             cells.append(f"{fmt(r[a.metric] * a.scale, 4)} {a.unit}, "
                          f"{(f'{100 * err:+.1f} %') if err is not None else '-'}, "
-                         f"{int(r['particles_1']):,}, {r['wall_s']:.0f} s")
+                         f"{int(r['particles_1']):,}, " + (f"{r['wall_s']:.0f} s" if r['wall_s'] is not None else "wall -"))
         print(f"| {c} | {ref_text} | " + " | ".join(cells) + " |")
     # Mean absolute error over the cases that have a reference of their own (a measurement, an analytic
     # value), per spacing: the figure an issue's "mean absolute error" target is stated in.
